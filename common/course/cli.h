@@ -1,0 +1,71 @@
+// The command line every chapter program shares (COURSE.md), plus the few options a
+// chapter declares for itself. Bad usage throws Failure(BadUsage) with a message.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace course {
+
+enum class Backend { Auto, Egl, OsMesa, Glfw };
+
+struct Options {
+    bool window = false;        // --window / --headless
+    std::string outPath;        // --out FILE (.png or .pfm); empty: chapter default
+    int width = 640;            // --width
+    int height = 480;           // --height
+    int spp = 1;                // --spp: samples (or dispatches) per pixel
+    uint32_t seed = 1;          // --seed
+    std::string scene;          // --scene NAME or FILE
+    std::string objPath;        // --obj FILE (chapters that load meshes)
+    Backend backend = Backend::Auto;
+    bool json = false;          // --json: one line of stats on stdout
+    bool verbose = false;       // --verbose
+    int frames = 0;             // --frames N: window mode closes after N frames
+    std::string shaderDir;      // --shader-dir: overrides the folder fixed at build time
+    std::string assetDir;       // --asset-dir
+};
+
+// An option that only one chapter has, e.g. --direct or --dispatch 2d.
+struct ChapterOption {
+    std::string name;  // "--direct"
+    std::string help;
+    std::string valueName;  // empty for a flag
+    std::function<void(const std::string& value)> apply;
+};
+
+class CommandLine {
+public:
+    explicit CommandLine(std::string summary) : summary_(std::move(summary)) {}
+    void setProgramName(std::string name) { program_ = std::move(name); }
+
+    void flag(const std::string& name, const std::string& help, bool* target);
+    void option(const std::string& name, const std::string& valueName,
+                const std::string& help, int* target, int minValue, int maxValue);
+    void option(const std::string& name, const std::string& valueName,
+                const std::string& help, std::string* target);
+    void choice(const std::string& name, const std::string& help,
+                const std::vector<std::string>& choices, std::string* target);
+    // Which shared options this chapter accepts beyond the basics (e.g. --obj from 07).
+    void acceptObj() { acceptObj_ = true; }
+    void acceptScene() { acceptScene_ = true; }
+    // A chapter that makes no picture: --out, --width, --height are refused.
+    void withoutImage() { makesImage_ = false; }
+
+    // Parses argv. --help prints usage and returns false (the caller exits 0).
+    bool parse(int argc, const char* const* argv, Options& options) const;
+    std::string usage() const;
+
+private:
+    std::string program_, summary_;
+    std::vector<ChapterOption> extra_;
+    bool acceptObj_ = false, acceptScene_ = false, makesImage_ = true;
+};
+
+// Limits that keep a typo from asking for a 40 GB buffer.
+constexpr int kMaxImageSide = 16384;
+constexpr long long kMaxImagePixels = 4096LL * 4096LL;
+constexpr int kMaxSpp = 1 << 20;
+
+}  // namespace course

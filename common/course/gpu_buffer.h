@@ -1,0 +1,54 @@
+// A shader storage buffer (SSBO) that frees itself. Move-only, like the GL object it
+// owns. Sizes are checked against what the driver allows, so a too-large scene fails
+// with a message instead of a black picture.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "course/gl.h"
+
+namespace course {
+
+class GpuBuffer {
+public:
+    GpuBuffer() = default;
+    explicit GpuBuffer(size_t bytes, const void* initialData = nullptr);
+    template <class T>
+    static GpuBuffer fromVector(const std::vector<T>& items) {
+        return GpuBuffer(items.size() * sizeof(T), items.data());
+    }
+    ~GpuBuffer();
+    GpuBuffer(GpuBuffer&& other) noexcept;
+    GpuBuffer& operator=(GpuBuffer&& other) noexcept;
+    GpuBuffer(const GpuBuffer&) = delete;
+    GpuBuffer& operator=(const GpuBuffer&) = delete;
+
+    // Makes the buffer visible to shaders as `layout(std430, binding = N) buffer`.
+    void bindStorage(GLuint binding) const;
+    void write(const void* data, size_t bytes, size_t offset = 0);
+    void read(void* data, size_t bytes, size_t offset = 0) const;
+    template <class T>
+    std::vector<T> readAll() const {
+        std::vector<T> items(bytes_ / sizeof(T));
+        read(items.data(), items.size() * sizeof(T));
+        return items;
+    }
+
+    GLuint id() const { return id_; }
+    size_t bytes() const { return bytes_; }
+
+private:
+    GLuint id_ = 0;
+    size_t bytes_ = 0;
+};
+
+// The image every ray-tracing chapter renders into: one linear RGBA vec4 per pixel,
+// row 0 at the top. Window mode shows it; headless mode writes it to --out.
+struct ImageBuffer {
+    int width = 0, height = 0;
+    GpuBuffer pixels;
+    ImageBuffer() = default;
+    ImageBuffer(int width, int height);
+};
+
+}  // namespace course

@@ -1,0 +1,30 @@
+// Images leave the GPU as linear RGBA floats and are written as
+//   .png  8-bit, sRGB-encoded (what a viewer expects), alpha dropped
+//   .pfm  32-bit float RGB, linear (what a numerical check wants)
+// Files are written to a temporary name in the same folder and renamed, so a crash
+// or a full disk never leaves a half-written image under the real name.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace course {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> rgba;  // row 0 is the TOP row, 4 floats per pixel, linear
+};
+
+float linearToSrgb(float linear);  // the sRGB transfer function, input clamped to [0,1]
+
+// Writes .png or .pfm by the file's extension; throws Failure(BadUsage) for other
+// extensions and Failure(BadInput) when the file cannot be written.
+void writeImage(const std::string& path, const Image& image);
+
+// Checks before any rendering that `path` has a known extension and a writable folder,
+// so a typo fails in a millisecond instead of after a long render.
+void checkOutputPath(const std::string& path);
+
+// Writes `bytes` to `path` through a temporary file and a rename.
+void writeFileAtomically(const std::string& path, const std::string& bytes);
+
+}  // namespace course

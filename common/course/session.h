@@ -1,0 +1,79 @@
+// A chapter program's run: the parsed options, the GL context they ask for, the
+// shader folder, the statistics, and the way the finished image leaves the program
+// (a file when headless, a window otherwise). Chapters write only the lesson:
+//
+//     int main(int argc, char** argv) {
+//         course::CommandLine cli("Chapter 02: a compute shader paints pixels");
+//         return course::run(cli, argc, argv, [&](course::Session& session) { ... });
+//     }
+#pragma once
+#include <functional>
+#include <list>
+#include <memory>
+#include <string>
+
+#include "course/cli.h"
+#include "course/error.h"
+#include "course/gl_context.h"
+#include "course/gpu_buffer.h"
+#include "course/shader_program.h"
+#include "course/stats.h"
+
+namespace course {
+
+// Where a checkpoint's files are; fixed at build time by add_chapter().
+struct ChapterPaths {
+    std::string name;       // "02_first_pixels"
+    std::string shaderDir;  // <repo>/shaders/02_first_pixels
+    std::string assetDir;   // <repo>/assets
+};
+
+class Session {
+public:
+    Session(const Options& options, const ChapterPaths& chapter, GlVersion required);
+
+    const Options& options() const { return options_; }
+    bool isWindow() const { return options_.window; }
+    GlContext& context() { return *context_; }
+    Stats& stats() { return stats_; }
+    const std::string& shaderDir() const { return shaderDir_; }
+    std::string assetPath(const std::string& relative) const;
+
+    // Compiles a compute shader from the checkpoint's shader folder. The session keeps
+    // it, so window mode can hot-reload it; the reference stays valid.
+    ShaderProgram& loadCompute(const std::string& fileName);
+
+    // Runs `render`, waits for the GPU, and records wall_ms and gpu_ms.
+    void timeRender(const std::function<void()>& render);
+
+    // The end of a render. Headless: writes the image to --out (default
+    // <chapter>.png) and prints its path. Window: shows it until Esc, the close button
+    // or --frames; after a shader is hot-reloaded, calls `render` again.
+    void finish(const ImageBuffer& image, const std::function<void()>& render = {});
+
+private:
+    bool reloadChangedShaders();
+
+    Options options_;
+    ChapterPaths chapter_;
+    std::string shaderDir_;
+    std::unique_ptr<GlContext> context_;
+    std::list<ShaderProgram> programs_;  // a list: references stay valid as it grows
+    Stats stats_;
+};
+
+// Parses the command line, makes the session, runs `body`, and turns every Failure
+// into its message and exit code. --json prints the statistics at the end.
+int runChapter(CommandLine& cli, int argc, char** argv, const ChapterPaths& chapter,
+               GlVersion required, const std::function<void(Session&)>& body);
+
+#ifdef COURSE_CHAPTER_NAME
+inline int run(CommandLine& cli, int argc, char** argv,
+               const std::function<void(Session&)>& body, GlVersion required = {}) {
+    return runChapter(cli, argc, argv,
+                      {COURSE_CHAPTER_NAME, COURSE_SHADER_DIR, COURSE_ASSET_DIR}, required,
+                      body);
+}
+#endif
+
+}  // namespace course

@@ -1,0 +1,70 @@
+// A linked GL program built from the checkpoint's shader files. Compile and link
+// errors come out as "shaders/NN_name/file.comp:LINE: message" (exit code 4).
+// In window mode, reloadIfChanged() rebuilds it when a file changed on disk and keeps
+// the last good program when the new source does not compile.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "course/gl.h"
+
+namespace course {
+
+struct ShaderStage {
+    GLenum type;           // GL_COMPUTE_SHADER, GL_VERTEX_SHADER, ...
+    std::string fileName;  // inside the shader folder
+};
+
+class ShaderProgram {
+public:
+    ShaderProgram() = default;
+    ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages);
+    static ShaderProgram compute(const std::string& shaderDir, const std::string& fileName) {
+        return ShaderProgram(shaderDir, {{GL_COMPUTE_SHADER, fileName}});
+    }
+    ~ShaderProgram();
+    ShaderProgram(ShaderProgram&& other) noexcept;
+    ShaderProgram& operator=(ShaderProgram&& other) noexcept;
+
+    void use() const { glUseProgram(id_); }
+    GLuint id() const { return id_; }
+
+    // Uniforms by name; a name the compiler optimised away is silently ignored.
+    void set(const char* name, int value) const;
+    void set(const char* name, unsigned value) const;
+    void set(const char* name, float value) const;
+    void set(const char* name, const glm::vec2& value) const;
+    void set(const char* name, const glm::vec3& value) const;
+    void set(const char* name, const glm::vec4& value) const;
+    void set(const char* name, const glm::ivec2& value) const;
+    void set(const char* name, const glm::uvec2& value) const;
+
+    // Work groups of a compute shader, as declared by its local_size layout.
+    glm::ivec3 workGroupSize() const;
+    // glDispatchCompute with enough groups to cover `invocations`, rounded up.
+    void dispatchCovering(int invocationsX, int invocationsY = 1, int invocationsZ = 1) const;
+
+    // Hot reload: true when a source file changed and the new program replaced the
+    // old one. A failed rebuild prints the error and keeps the old program.
+    bool reloadIfChanged();
+
+private:
+    GLuint build() const;  // throws Failure(GlProblem)
+    std::filesystem::file_time_type newestSourceTime() const;
+
+    GLuint id_ = 0;
+    std::string shaderDir_;
+    std::vector<ShaderStage> stages_;
+    mutable std::vector<std::string> sourceFiles_;  // every file read, includes too
+    std::filesystem::file_time_type builtFrom_{};
+};
+
+// Compiles and links program text that lives in C++ (the window display); errors name
+// `label`. Returns the program id.
+GLuint buildProgramFromText(const std::vector<std::pair<GLenum, std::string>>& stages,
+                            const std::string& label);
+
+}  // namespace course

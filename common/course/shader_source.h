@@ -1,0 +1,26 @@
+// Reads a GLSL file the way the course writes them: `#include "file.glsl"` pulls in a
+// file from the same shader folder, and `#line` directives keep every line traceable,
+// so a compiler message "0:12(5): error" can be turned back into file.comp:12.
+// Pure C++, no GL: unit-tested on its own.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace course {
+
+struct ShaderSource {
+    std::string text;                    // what the GL compiler gets
+    std::vector<std::string> shownPaths;  // source-string number -> path shown to people
+    std::vector<std::string> filePaths;   // source-string number -> absolute path
+};
+
+// Throws Failure(GlProblem) naming the file (and the #include line) that is missing,
+// empty, without #version, or included in a cycle.
+ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName);
+
+// Rewrites compiler messages from the driver's "string:line" forms (Mesa "0:12(5):",
+// NVIDIA "0(12) :", AMD/Intel "ERROR: 0:12:") into "shaders/NN/file.comp:12: ...".
+std::string translateShaderLog(const std::string& log,
+                               const std::vector<std::string>& shownPaths);
+
+}  // namespace course

@@ -1,0 +1,65 @@
+#include "course/gpu_buffer.h"
+
+#include <string>
+#include <utility>
+
+#include "course/error.h"
+
+namespace course {
+
+GpuBuffer::GpuBuffer(size_t bytes, const void* initialData) : bytes_(bytes) {
+    glGenBuffers(1, &id_);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+    // GL_DYNAMIC_COPY: written and read by the GPU, copied back now and then.
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), initialData,
+                 GL_DYNAMIC_COPY);
+    if (glGetError() == GL_OUT_OF_MEMORY)
+        fail(ExitCode::GlProblem, "out of GPU memory allocating a buffer of " +
+                                      std::to_string(bytes >> 20) + " MiB");
+}
+
+GpuBuffer::~GpuBuffer() {
+    if (id_) glDeleteBuffers(1, &id_);
+}
+
+GpuBuffer::GpuBuffer(GpuBuffer&& other) noexcept
+    : id_(std::exchange(other.id_, 0)), bytes_(std::exchange(other.bytes_, 0)) {}
+
+GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
+    if (this != &other) {
+        if (id_) glDeleteBuffers(1, &id_);
+        id_ = std::exchange(other.id_, 0);
+        bytes_ = std::exchange(other.bytes_, 0);
+    }
+    return *this;
+}
+
+void GpuBuffer::bindStorage(GLuint binding) const {
+    GLint64 maxBlockBytes = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlockBytes);
+    if (maxBlockBytes > 0 && static_cast<GLint64>(bytes_) > maxBlockBytes)
+        fail(ExitCode::GlProblem,
+             "a storage buffer of " + std::to_string(bytes_) + " bytes exceeds this GL's "
+             "GL_MAX_SHADER_STORAGE_BLOCK_SIZE of " + std::to_string(maxBlockBytes));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_);
+}
+
+void GpuBuffer::write(const void* data, size_t bytes, size_t offset) {
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+                    static_cast<GLsizeiptr>(bytes), data);
+}
+
+void GpuBuffer::read(void* data, size_t bytes, size_t offset) const {
+    // Shader writes must be visible to the copy that follows.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+                       static_cast<GLsizeiptr>(bytes), data);
+}
+
+ImageBuffer::ImageBuffer(int width, int height)
+    : width(width), height(height),
+      pixels(size_t(width) * size_t(height) * 4 * sizeof(float)) {}
+
+}  // namespace course

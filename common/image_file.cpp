@@ -1,0 +1,112 @@
+#include "course/image_file.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <stb/stb_image_write.h>
+
+#include "course/error.h"
+
+namespace fs = std::filesystem;
+
+namespace course {
+namespace {
+
+std::string extensionOf(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext;
+}
+
+std::string encodePng(const Image& image) {
+    std::vector<unsigned char> srgb(size_t(image.width) * image.height * 3);
+    for (size_t i = 0; i < srgb.size() / 3; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float encoded = linearToSrgb(image.rgba[i * 4 + c]);
+            srgb[i * 3 + c] = static_cast<unsigned char>(std::lround(encoded * 255.0f));
+        }
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 3,
+                                srgb.data(), image.width * 3))
+        fail(ExitCode::BadInput, "could not encode the PNG image");
+    return bytes;
+}
+
+// PFM: a text header, then little-endian floats with the BOTTOM row first.
+std::string encodePfm(const Image& image) {
+    std::string bytes = "PF\n" + std::to_string(image.width) + " " +
+                        std::to_string(image.height) + "\n-1.0\n";
+    std::vector<float> rgb(size_t(image.width) * image.height * 3);
+    for (int y = 0; y < image.height; ++y) {
+        int sourceRow = image.height - 1 - y;
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(size_t(y) * image.width + x) * 3 + c] =
+                    image.rgba[(size_t(sourceRow) * image.width + x) * 4 + c];
+    }
+    bytes.append(reinterpret_cast<const char*>(rgb.data()), rgb.size() * sizeof(float));
+    return bytes;
+}
+
+}  // namespace
+
+float linearToSrgb(float linear) {
+    float x = std::clamp(std::isnan(linear) ? 0.0f : linear, 0.0f, 1.0f);
+    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+void checkOutputPath(const std::string& path) {
+    std::string ext = extensionOf(path);
+    if (ext != ".png" && ext != ".pfm")
+        fail(ExitCode::BadUsage, "--out " + path + ": the file name must end in .png or .pfm");
+    fs::path folder = fs::absolute(path).parent_path();
+    std::error_code error;
+    if (!fs::is_directory(folder, error))
+        fail(ExitCode::BadUsage, "--out " + path + ": folder " + folder.string() +
+                                     " does not exist");
+    if (fs::is_directory(fs::path(path), error))
+        fail(ExitCode::BadUsage, "--out " + path + ": is a folder, not a file");
+    if (access(folder.c_str(), W_OK) != 0)
+        fail(ExitCode::BadUsage, "--out " + path + ": folder " + folder.string() +
+                                     " is not writable");
+}
+
+void writeFileAtomically(const std::string& path, const std::string& bytes) {
+    fs::path target = fs::absolute(path);
+    fs::path temporary = target;
+    temporary += ".tmp" + std::to_string(getpid());
+    {
+        std::ofstream file(temporary, std::ios::binary);
+        file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        file.flush();
+        if (!file) {
+            std::error_code ignored;
+            fs::remove(temporary, ignored);
+            fail(ExitCode::BadInput, "could not write " + temporary.string() + ": " +
+                                         std::strerror(errno));
+        }
+    }
+    std::error_code error;
+    fs::rename(temporary, target, error);
+    if (error) {
+        fs::remove(temporary, error);
+        fail(ExitCode::BadInput, "could not rename the image to " + target.string());
+    }
+}
+
+void writeImage(const std::string& path, const Image& image) {
+    checkOutputPath(path);
+    std::string ext = extensionOf(path);
+    writeFileAtomically(path, ext == ".png" ? encodePng(image) : encodePfm(image));
+}
+
+}  // namespace course

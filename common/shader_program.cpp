@@ -1,0 +1,181 @@
+#include "course/shader_program.h"
+
+#include <cstdio>
+#include <utility>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "course/error.h"
+#include "course/shader_source.h"
+
+namespace fs = std::filesystem;
+
+namespace course {
+namespace {
+
+std::string infoLog(GLuint object, bool isProgram) {
+    GLint length = 0;
+    isProgram ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length)
+              : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+    std::string log(length > 0 ? size_t(length) : 0, '\0');
+    if (length > 0)
+        isProgram ? glGetProgramInfoLog(object, length, nullptr, log.data())
+                  : glGetShaderInfoLog(object, length, nullptr, log.data());
+    while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+    return log;
+}
+
+GLuint compileStage(GLenum type, const std::string& text,
+                    const std::vector<std::string>& shownPaths) {
+    GLuint shader = glCreateShader(type);
+    const char* source = text.c_str();
+    glShaderSource(shader, 1, &source, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        std::string log = translateShaderLog(infoLog(shader, false), shownPaths);
+        glDeleteShader(shader);
+        fail(ExitCode::GlProblem, "shader compile failed:\n" + log);
+    }
+    return shader;
+}
+
+GLuint linkProgram(const std::vector<GLuint>& shaders, const std::string& label) {
+    GLuint program = glCreateProgram();
+    for (GLuint shader : shaders) glAttachShader(program, shader);
+    glLinkProgram(program);
+    for (GLuint shader : shaders) glDeleteShader(shader);  // the program keeps them
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        std::string log = infoLog(program, true);
+        glDeleteProgram(program);
+        fail(ExitCode::GlProblem, label + ": shader link failed:\n" + log);
+    }
+    return program;
+}
+
+}  // namespace
+
+GLuint buildProgramFromText(const std::vector<std::pair<GLenum, std::string>>& stages,
+                            const std::string& label) {
+    std::vector<GLuint> shaders;
+    for (const auto& [type, text] : stages) shaders.push_back(compileStage(type, text, {label}));
+    return linkProgram(shaders, label);
+}
+
+ShaderProgram::ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages)
+    : shaderDir_(std::move(shaderDir)), stages_(std::move(stages)) {
+    id_ = build();
+    builtFrom_ = newestSourceTime();
+}
+
+ShaderProgram::~ShaderProgram() {
+    if (id_) glDeleteProgram(id_);
+}
+
+ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
+    : id_(std::exchange(other.id_, 0)), shaderDir_(std::move(other.shaderDir_)),
+      stages_(std::move(other.stages_)), sourceFiles_(std::move(other.sourceFiles_)),
+      builtFrom_(other.builtFrom_) {}
+
+ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
+    if (this != &other) {
+        if (id_) glDeleteProgram(id_);
+        id_ = std::exchange(other.id_, 0);
+        shaderDir_ = std::move(other.shaderDir_);
+        stages_ = std::move(other.stages_);
+        sourceFiles_ = std::move(other.sourceFiles_);
+        builtFrom_ = other.builtFrom_;
+    }
+    return *this;
+}
+
+GLuint ShaderProgram::build() const {
+    std::vector<GLuint> shaders;
+    std::vector<std::string> files;
+    std::string label;
+    try {
+        for (const ShaderStage& stage : stages_) {
+            ShaderSource source = loadShaderSource(shaderDir_, stage.fileName);
+            files.insert(files.end(), source.filePaths.begin(), source.filePaths.end());
+            label += (label.empty() ? "" : " + ") + source.shownPaths.front();
+            shaders.push_back(compileStage(stage.type, source.text, source.shownPaths));
+        }
+    } catch (...) {
+        for (GLuint shader : shaders) glDeleteShader(shader);
+        throw;
+    }
+    sourceFiles_ = files;
+    return linkProgram(shaders, label);
+}
+
+fs::file_time_type ShaderProgram::newestSourceTime() const {
+    fs::file_time_type newest{};
+    std::error_code error;
+    for (const std::string& file : sourceFiles_) {
+        auto time = fs::last_write_time(file, error);
+        if (!error && time > newest) newest = time;
+    }
+    return newest;
+}
+
+bool ShaderProgram::reloadIfChanged() {
+    fs::file_time_type newest = newestSourceTime();
+    if (newest == builtFrom_) return false;
+    builtFrom_ = newest;  // try each saved version once
+    try {
+        GLuint rebuilt = build();
+        glDeleteProgram(id_);
+        id_ = rebuilt;
+        std::fprintf(stderr, "reloaded %s\n", stages_.front().fileName.c_str());
+        return true;
+    } catch (const Failure& failure) {
+        std::fprintf(stderr, "%s\nkeeping the last program that compiled\n", failure.what());
+        return false;
+    }
+}
+
+void ShaderProgram::set(const char* name, int value) const {
+    glProgramUniform1i(id_, glGetUniformLocation(id_, name), value);
+}
+void ShaderProgram::set(const char* name, unsigned value) const {
+    glProgramUniform1ui(id_, glGetUniformLocation(id_, name), value);
+}
+void ShaderProgram::set(const char* name, float value) const {
+    glProgramUniform1f(id_, glGetUniformLocation(id_, name), value);
+}
+void ShaderProgram::set(const char* name, const glm::vec2& value) const {
+    glProgramUniform2fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+void ShaderProgram::set(const char* name, const glm::vec3& value) const {
+    glProgramUniform3fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+void ShaderProgram::set(const char* name, const glm::vec4& value) const {
+    glProgramUniform4fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+void ShaderProgram::set(const char* name, const glm::ivec2& value) const {
+    glProgramUniform2iv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+
+void ShaderProgram::set(const char* name, const glm::uvec2& value) const {
+    glProgramUniform2uiv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+
+glm::ivec3 ShaderProgram::workGroupSize() const {
+    GLint size[3] = {1, 1, 1};
+    glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
+    return {size[0], size[1], size[2]};
+}
+
+void ShaderProgram::dispatchCovering(int invocationsX, int invocationsY,
+                                     int invocationsZ) const {
+    glm::ivec3 group = workGroupSize();
+    auto groupsFor = [](int invocations, int size) { return (invocations + size - 1) / size; };
+    use();
+    glDispatchCompute(groupsFor(invocationsX, group.x), groupsFor(invocationsY, group.y),
+                      groupsFor(invocationsZ, group.z));
+}
+
+}  // namespace course

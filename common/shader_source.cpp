@@ -1,0 +1,121 @@
+#include "course/shader_source.h"
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "course/error.h"
+
+namespace fs = std::filesystem;
+
+namespace course {
+namespace {
+
+constexpr int kMaxIncludeDepth = 16;
+
+// "shaders/04_spheres/sphere.glsl" when the folder is a checkpoint's shader folder,
+// otherwise the absolute path: short where it can be, never ambiguous.
+std::string shownPathOf(const fs::path& file) {
+    fs::path folder = file.parent_path();
+    if (folder.parent_path().filename() == "shaders")
+        return (fs::path("shaders") / folder.filename() / file.filename()).string();
+    return file.string();
+}
+
+[[noreturn]] void shaderFailure(const std::string& where, const std::string& what) {
+    fail(ExitCode::GlProblem, where + ": " + what);
+}
+
+struct Preprocessor {
+    fs::path folder;
+    ShaderSource result;
+    std::vector<fs::path> includeStack;
+
+    void append(const fs::path& file, const std::string& includedFrom, int depth) {
+        if (depth > kMaxIncludeDepth)
+            shaderFailure(includedFrom, "#include nested deeper than 16 levels");
+        for (const auto& open : includeStack)
+            if (open == file)
+                shaderFailure(includedFrom, "#include cycle: " + shownPathOf(file) +
+                                                " includes itself");
+        std::ifstream stream(file, std::ios::binary);
+        if (!stream || fs::is_directory(file))
+            shaderFailure(includedFrom.empty() ? shownPathOf(file) : includedFrom,
+                          "cannot read shader file " + file.string());
+        std::stringstream content;
+        content << stream.rdbuf();
+        const std::string text = content.str();
+        if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+            shaderFailure(shownPathOf(file), "shader file is empty: " + file.string());
+
+        const int sourceNumber = static_cast<int>(result.shownPaths.size());
+        result.shownPaths.push_back(shownPathOf(file));
+        result.filePaths.push_back(file.string());
+        includeStack.push_back(file);
+        if (depth > 0) result.text += "#line 1 " + std::to_string(sourceNumber) + "\n";
+
+        static const std::regex includeLine(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
+        static const std::regex badInclude(R"(^\s*#\s*include\b.*)");
+        std::istringstream lines(text);
+        std::string line;
+        bool sawVersion = false;
+        for (int lineNumber = 1; std::getline(lines, line); ++lineNumber) {
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            const std::string here = shownPathOf(file) + ":" + std::to_string(lineNumber);
+            std::smatch match;
+            if (std::regex_match(line, match, includeLine)) {
+                fs::path included = folder / match[1].str();
+                append(included.lexically_normal(), here, depth + 1);
+                // Back in this file: the next line is lineNumber + 1 of this source.
+                result.text += "#line " + std::to_string(lineNumber + 1) + " " +
+                               std::to_string(sourceNumber) + "\n";
+                continue;
+            }
+            if (std::regex_match(line, badInclude))
+                shaderFailure(here, "#include needs a quoted file name: " + line);
+            if (line.find("#version") != std::string::npos) sawVersion = true;
+            result.text += line + "\n";
+        }
+        if (depth == 0 && !sawVersion)
+            shaderFailure(shownPathOf(file) + ":1", "the shader has no #version line");
+        includeStack.pop_back();
+    }
+};
+
+}  // namespace
+
+ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName) {
+    Preprocessor preprocessor;
+    preprocessor.folder = fs::absolute(shaderDir).lexically_normal();
+    preprocessor.append(preprocessor.folder / fileName, "", 0);
+    return preprocessor.result;
+}
+
+std::string translateShaderLog(const std::string& log,
+                               const std::vector<std::string>& shownPaths) {
+    // Mesa: "0:12(5): error: ..."  NVIDIA: "0(12) : error C1008: ..."
+    // AMD / Intel Windows: "ERROR: 0:12: ..."
+    static const std::regex mesa(R"(^(\d+):(\d+)\(\d+\):\s*(.*)$)");
+    static const std::regex nvidia(R"(^(\d+)\((\d+)\)\s*:\s*(.*)$)");
+    static const std::regex amd(R"(^(ERROR|WARNING):\s*(\d+):(\d+):\s*(.*)$)");
+    auto shown = [&](const std::string& number) {
+        size_t index = std::stoul(number);
+        return index < shownPaths.size() ? shownPaths[index] : "source " + number;
+    };
+    std::istringstream lines(log);
+    std::string line, out;
+    while (std::getline(lines, line)) {
+        std::smatch m;
+        if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia))
+            out += shown(m[1]) + ":" + m[2].str() + ": " + m[3].str() + "\n";
+        else if (std::regex_match(line, m, amd))
+            out += shown(m[2]) + ":" + m[3].str() + ": " + m[1].str() + ": " + m[4].str() +
+                   "\n";
+        else if (!line.empty())
+            out += line + "\n";
+    }
+    return out;
+}
+
+}  // namespace course
