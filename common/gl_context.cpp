@@ -13,6 +13,8 @@ void GLAPIENTRY printDebugMessage(GLenum source, GLenum type, GLuint id, GLenum 
                                   GLsizei, const GLchar* message, const void*) {
     // Notifications (buffer placed in memory, ...) only with --verbose.
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION && !verboseLogging()) return;
+    // Compile errors are reported by ShaderProgram, with file:line; not twice.
+    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) return;
     const char* kind = type == GL_DEBUG_TYPE_ERROR                 ? "error"
                        : type == GL_DEBUG_TYPE_PERFORMANCE         ? "performance"
                        : type == GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR ? "deprecated"

@@ -112,7 +112,8 @@ GLuint ShaderProgram::build() const {
 }
 
 fs::file_time_type ShaderProgram::newestSourceTime() const {
-    fs::file_time_type newest{};
+    // min(), not {}: file_clock's epoch is in the future, so real times are negative.
+    fs::file_time_type newest = fs::file_time_type::min();
     std::error_code error;
     for (const std::string& file : sourceFiles_) {
         auto time = fs::last_write_time(file, error);

@@ -14,6 +14,16 @@ namespace {
 
 constexpr int kMaxIncludeDepth = 16;
 
+// `#line N S` should make the compiler report source string S, but Mesa reports every
+// message as string 0. So line numbers carry the file too: included file S starts at
+// line S * kLinesPerFile + 1, which any driver reports faithfully.
+constexpr int kLinesPerFile = 10000;
+
+std::string lineDirective(int sourceNumber, int line) {
+    return "#line " + std::to_string(sourceNumber * kLinesPerFile + line) + " " +
+           std::to_string(sourceNumber) + "\n";
+}
+
 // "shaders/04_spheres/sphere.glsl" when the folder is a checkpoint's shader folder,
 // otherwise the absolute path: short where it can be, never ambiguous.
 std::string shownPathOf(const fs::path& file) {
@@ -53,7 +63,7 @@ struct Preprocessor {
         result.shownPaths.push_back(shownPathOf(file));
         result.filePaths.push_back(file.string());
         includeStack.push_back(file);
-        if (depth > 0) result.text += "#line 1 " + std::to_string(sourceNumber) + "\n";
+        if (depth > 0) result.text += lineDirective(sourceNumber, 1);
 
         static const std::regex includeLine(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
         static const std::regex badInclude(R"(^\s*#\s*include\b.*)");
@@ -68,13 +78,14 @@ struct Preprocessor {
                 fs::path included = folder / match[1].str();
                 append(included.lexically_normal(), here, depth + 1);
                 // Back in this file: the next line is lineNumber + 1 of this source.
-                result.text += "#line " + std::to_string(lineNumber + 1) + " " +
-                               std::to_string(sourceNumber) + "\n";
+                result.text += lineDirective(sourceNumber, lineNumber + 1);
                 continue;
             }
             if (std::regex_match(line, badInclude))
                 shaderFailure(here, "#include needs a quoted file name: " + line);
             if (line.find("#version") != std::string::npos) sawVersion = true;
+            if (depth > 0 && lineNumber >= kLinesPerFile)
+                shaderFailure(here, "an included file may have at most 9999 lines");
             result.text += line + "\n";
         }
         if (depth == 0 && !sawVersion)
@@ -99,19 +110,25 @@ std::string translateShaderLog(const std::string& log,
     static const std::regex mesa(R"(^(\d+):(\d+)\(\d+\):\s*(.*)$)");
     static const std::regex nvidia(R"(^(\d+)\((\d+)\)\s*:\s*(.*)$)");
     static const std::regex amd(R"(^(ERROR|WARNING):\s*(\d+):(\d+):\s*(.*)$)");
-    auto shown = [&](const std::string& number) {
-        size_t index = std::stoul(number);
-        return index < shownPaths.size() ? shownPaths[index] : "source " + number;
+    // "file:line" from the reported source number and line (see kLinesPerFile).
+    auto where = [&](const std::string& number, const std::string& lineText) {
+        size_t index = std::stoul(number), line = std::stoul(lineText);
+        if (line >= size_t(kLinesPerFile)) {
+            index = line / kLinesPerFile;
+            line %= kLinesPerFile;
+        }
+        std::string file = index < shownPaths.size() ? shownPaths[index]
+                                                     : "source " + std::to_string(index);
+        return file + ":" + std::to_string(line);
     };
     std::istringstream lines(log);
     std::string line, out;
     while (std::getline(lines, line)) {
         std::smatch m;
         if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia))
-            out += shown(m[1]) + ":" + m[2].str() + ": " + m[3].str() + "\n";
+            out += where(m[1], m[2]) + ": " + m[3].str() + "\n";
         else if (std::regex_match(line, m, amd))
-            out += shown(m[2]) + ":" + m[3].str() + ": " + m[1].str() + ": " + m[4].str() +
-                   "\n";
+            out += where(m[2], m[3]) + ": " + m[1].str() + ": " + m[4].str() + "\n";
         else if (!line.empty())
             out += line + "\n";
     }

@@ -90,39 +90,46 @@ def ray_colors(directions):
 
 FIGURE_COLUMNS, FIGURE_ROWS = 8, 6  # a coarse pixel grid, so the rays stay readable
 RAY_LENGTH = 2.6  # in focal lengths, so the rays visibly go on past the sensor
+LABEL_BOX = dict(facecolor="white", alpha=0.75, edgecolor="none", pad=1.0)
 
 
-def draw_camera_figure(camera, path=None, elev=20, azim=-60):
+def draw_camera_figure(camera, path=None, elev=20, azim=70):
     """Draw eye, camera axes, sensor, pixel grid and rays; save to path or show."""
     import matplotlib
     if path is not None:
         matplotlib.use("Agg")  # no window needed to write a file
     import matplotlib.pyplot as plt
 
-    # Work in units of one focal length: the real sensor is 36 mm across, invisible next
-    # to a scene metres wide. Scaling focal length and sensor together keeps the rays'
-    # directions, which depend only on their ratio.
-    # The eye is drawn at the origin; only directions matter for the picture.
-    scale = 1.0 / camera.focal_length
+    # Draw in units of one focal length, with the eye at the origin: a real 36 mm sensor
+    # would be invisible next to a scene metres wide. Scaling focal length and sensor
+    # together keeps the rays' directions, which depend only on their ratio.
     eye = np.zeros(3)
     forward, right, true_up = camera_basis(camera.look_direction, camera.up)
-    sensor_width = camera.sensor_width * scale
-    sensor_height = sensor_width * FIGURE_ROWS / FIGURE_COLUMNS
+    sensor_width = camera.sensor_width / camera.focal_length
+    sensor_height = sensor_width * FIGURE_ROWS / FIGURE_COLUMNS  # square pixels
     centers = pixel_centers(FIGURE_COLUMNS, FIGURE_ROWS, eye, camera.look_direction,
                             camera.up, 1.0, sensor_width)
     directions = normalize(centers - eye)
 
     figure = plt.figure(figsize=(8, 6), dpi=120)
-    axes = figure.add_subplot(projection="3d")
+    axes = figure.add_axes((0.0, 0.1, 1.0, 0.85), projection="3d")  # room for a caption
+    axes.computed_zorder = False  # draw in call order: labels and arrows over the rays
     draw_rays(axes, eye, centers, directions)
     draw_sensor(axes, eye + forward, right, true_up, sensor_width, sensor_height)
-    draw_pixel_centers(axes, centers)
+    draw_pixel_centers(axes, centers, true_up)
     draw_axes(axes, eye, forward, right, true_up)
-    frame_view(axes, eye, forward, right, true_up, sensor_width)
+    ray_ends = (eye + directions * RAY_LENGTH).reshape(-1, 3)
+    frame_view(axes, np.concatenate([[eye, eye + true_up * 0.7, eye + right * 0.7],
+                                     ray_ends]))
     axes.view_init(elev=elev, azim=azim, vertical_axis="y")
 
-    axes.set_title("Pinhole camera: one ray from the eye through each pixel centre\n"
-                   f"({FIGURE_COLUMNS} x {FIGURE_ROWS} pixels; lengths in focal lengths)")
+    axes.set_title("Pinhole camera: one ray from the eye through each pixel centre")
+    figure.text(0.5, 0.01,
+                f"{FIGURE_COLUMNS} x {FIGURE_ROWS} pixels. Lengths in focal lengths: "
+                f"a {camera.sensor_width * 1000:g} mm wide sensor "
+                f"{camera.focal_length * 1000:g} mm in front of the eye.\n"
+                "Eye at the origin; solid: eye to pixel centre, dashed: on into the scene.",
+                ha="center", fontsize=9, color="0.3")
     if path is not None:
         figure.savefig(path, bbox_inches="tight")
         plt.close(figure)
@@ -150,49 +157,54 @@ def draw_sensor(axes, sensor_center, right, true_up, sensor_width, sensor_height
     corners = np.array([sensor_point(x, y) for x, y in
                         [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]])
     axes.add_collection3d(Poly3DCollection([corners], facecolor="tab:blue", alpha=0.12))
+    def grid_line(start, end, on_edge):  # pixel borders thin, the sensor outline bold
+        line = np.stack([sensor_point(*start), sensor_point(*end)])
+        axes.plot(*line.T, color="tab:blue", linewidth=1.6 if on_edge else 0.6)
+
     for column in range(FIGURE_COLUMNS + 1):
         x = column / FIGURE_COLUMNS - 0.5
-        line = np.stack([sensor_point(x, -0.5), sensor_point(x, 0.5)])
-        axes.plot(*line.T, color="tab:blue", linewidth=0.6 if 0 < column < FIGURE_COLUMNS else 1.6)
+        grid_line((x, -0.5), (x, 0.5), column in (0, FIGURE_COLUMNS))
     for row in range(FIGURE_ROWS + 1):
         y = row / FIGURE_ROWS - 0.5
-        line = np.stack([sensor_point(-0.5, y), sensor_point(0.5, y)])
-        axes.plot(*line.T, color="tab:blue", linewidth=0.6 if 0 < row < FIGURE_ROWS else 1.6)
+        grid_line((-0.5, y), (0.5, y), row in (0, FIGURE_ROWS))
     label_at = sensor_point(0.5, -0.5)
-    axes.text(*label_at, "  sensor\n  (image plane)", color="tab:blue", fontsize=9)
+    axes.text(*label_at, "  sensor\n  (image plane)", color="tab:blue", fontsize=9,
+              va="top", bbox=LABEL_BOX)
 
 
-def draw_pixel_centers(axes, centers):
+def draw_pixel_centers(axes, centers, true_up):
     """Pixel centres as dots; mark pixel (0, 0), the top-left one."""
     points = centers.reshape(-1, 3)
     axes.scatter(*points.T, color="black", s=6, depthshade=False)
     axes.scatter(*centers[0, 0], color="tab:red", s=24, depthshade=False)
-    axes.text(*centers[0, 0], "  pixel (0, 0)\n  top left", color="tab:red", fontsize=9)
+    axes.text(*(centers[0, 0] + 0.08 * true_up), "pixel (0, 0): top left", color="tab:red",
+              fontsize=9, ha="left", va="bottom", bbox=LABEL_BOX)
 
 
 def draw_axes(axes, eye, forward, right, true_up):
     """The eye and the camera's three unit axes as arrows."""
     axes.scatter(*eye, color="black", s=30, depthshade=False)
-    axes.text(*(eye - 0.25 * true_up), "eye", fontsize=10, ha="center", va="top")
+    axes.text(*(eye - 0.12 * true_up), "eye", fontsize=10, ha="right", va="top",
+              bbox=LABEL_BOX)
     for direction, name, color in [(forward, "forward", "tab:green"),
                                    (right, "right", "tab:red"),
                                    (true_up, "true_up", "tab:purple")]:
         length = 0.6
         axes.quiver(*eye, *(direction * length), color=color, linewidth=1.8,
                     arrow_length_ratio=0.2)
-        axes.text(*(eye + direction * length * 1.1), name, color=color, fontsize=10)
+        axes.text(*(eye + direction * length * 1.1), name, color=color, fontsize=10,
+                  bbox=LABEL_BOX)
 
 
-def frame_view(axes, eye, forward, right, true_up, sensor_width):
-    """Equal axis scales around the drawing, a viewpoint beside and behind the eye."""
-    extent = np.stack([eye, eye + forward * RAY_LENGTH * 1.05,
-                       eye + forward + right * sensor_width, eye + true_up * 0.7])
-    middle = (extent.min(axis=0) + extent.max(axis=0)) / 2
-    half_size = (extent.max(axis=0) - extent.min(axis=0)).max() / 2
-    axes.set_xlim(middle[0] - half_size, middle[0] + half_size)
-    axes.set_ylim(middle[1] - half_size, middle[1] + half_size)
-    axes.set_zlim(middle[2] - half_size, middle[2] + half_size)
-    axes.set_box_aspect((1, 1, 1))
+def frame_view(axes, points):
+    """Fit the axes tightly around points, with the same scale on all three axes."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    margin = 0.05 * (high - low).max()
+    low, high = low - margin, high + margin
+    axes.set_xlim(low[0], high[0])
+    axes.set_ylim(low[1], high[1])
+    axes.set_zlim(low[2], high[2])
+    axes.set_box_aspect(high - low)  # box sides in proportion to the data ranges
     axes.set_xlabel("x")
     axes.set_ylabel("y")
     axes.set_zlabel("z")

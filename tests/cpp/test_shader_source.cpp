@@ -1,0 +1,132 @@
+// The shader preprocessor: #include, #line mapping and compiler-log translation.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "course/error.h"
+#include "course/shader_source.h"
+
+namespace fs = std::filesystem;
+using course::ExitCode;
+using course::Failure;
+
+namespace {
+
+// A scratch shader folder laid out like the course's: <tmp>/shaders/NN_test/.
+struct ShaderFolder {
+    fs::path root = fs::temp_directory_path() /
+                    ("course_shader_test_" + std::to_string(::testing::UnitTest::GetInstance()
+                                                                 ->random_seed()) +
+                     "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::path folder = root / "shaders" / "99_test";
+    ShaderFolder() { fs::create_directories(folder); }
+    ~ShaderFolder() { fs::remove_all(root); }
+    void write(const std::string& name, const std::string& text) {
+        std::ofstream(folder / name) << text;
+    }
+};
+
+std::string failureOf(const std::function<void()>& action, ExitCode expected) {
+    try {
+        action();
+    } catch (const Failure& failure) {
+        EXPECT_EQ(failure.code(), expected);
+        return failure.what();
+    }
+    ADD_FAILURE() << "no Failure thrown";
+    return "";
+}
+
+}  // namespace
+
+TEST(ShaderSource, IncludesAreInlinedWithLineDirectives) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"a.glsl\"\nvoid main() {}\n");
+    shaders.write("a.glsl", "float a() { return 1.0; }\n");
+    course::ShaderSource source = course::loadShaderSource(shaders.folder.string(), "main.comp");
+    EXPECT_EQ(source.text,
+              "#version 430\n#line 10001 1\nfloat a() { return 1.0; }\n#line 3 0\n"
+              "void main() {}\n");
+    ASSERT_EQ(source.shownPaths.size(), 2u);
+    EXPECT_EQ(source.shownPaths[0], "shaders/99_test/main.comp");
+    EXPECT_EQ(source.shownPaths[1], "shaders/99_test/a.glsl");
+}
+
+TEST(ShaderSource, NestedIncludesAndCrlf) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\r\n#include \"a.glsl\"\r\nvoid main() {}\r\n");
+    shaders.write("a.glsl", "#include \"b.glsl\"\nfloat a;\n");
+    shaders.write("b.glsl", "float b;\n");
+    course::ShaderSource source = course::loadShaderSource(shaders.folder.string(), "main.comp");
+    EXPECT_EQ(source.text, "#version 430\n#line 10001 1\n#line 20001 2\nfloat b;\n"
+                           "#line 10002 1\nfloat a;\n#line 3 0\nvoid main() {}\n");
+}
+
+TEST(ShaderSource, MissingIncludeNamesTheIncludingLine) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n\n#include \"missing.glsl\"\n");
+    std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "main.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("shaders/99_test/main.comp:3"), std::string::npos) << message;
+    EXPECT_NE(message.find((shaders.folder / "missing.glsl").string()), std::string::npos)
+        << message;
+}
+
+TEST(ShaderSource, MissingFileGivesTheAbsolutePathTried) {
+    ShaderFolder shaders;
+    std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "nope.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find((shaders.folder / "nope.comp").string()), std::string::npos);
+}
+
+TEST(ShaderSource, EmptyShaderIsNeverCompiled) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "  \n\n");
+    std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "main.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("empty"), std::string::npos);
+}
+
+TEST(ShaderSource, IncludeCycleIsReported) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"a.glsl\"\n");
+    shaders.write("a.glsl", "#include \"b.glsl\"\n");
+    shaders.write("b.glsl", "#include \"a.glsl\"\n");
+    std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "main.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("cycle"), std::string::npos);
+    EXPECT_NE(message.find("shaders/99_test/b.glsl:1"), std::string::npos) << message;
+}
+
+TEST(ShaderSource, MissingVersionAndBadIncludeSyntax) {
+    ShaderFolder shaders;
+    shaders.write("noversion.comp", "void main() {}\n");
+    EXPECT_NE(failureOf([&] { course::loadShaderSource(shaders.folder.string(), "noversion.comp"); },
+                        ExitCode::GlProblem)
+                  .find("#version"),
+              std::string::npos);
+    shaders.write("bad.comp", "#version 430\n#include <a.glsl>\n");
+    EXPECT_NE(failureOf([&] { course::loadShaderSource(shaders.folder.string(), "bad.comp"); },
+                        ExitCode::GlProblem)
+                  .find("shaders/99_test/bad.comp:2"),
+              std::string::npos);
+}
+
+TEST(ShaderLog, MesaNvidiaAndAmdFormsAreTranslated) {
+    std::vector<std::string> paths = {"shaders/01/main.comp", "shaders/01/a.glsl"};
+    EXPECT_EQ(course::translateShaderLog("1:7(12): error: syntax error", paths),
+              "shaders/01/a.glsl:7: error: syntax error\n");
+    EXPECT_EQ(course::translateShaderLog("0(12) : error C1008: undefined variable", paths),
+              "shaders/01/main.comp:12: error C1008: undefined variable\n");
+    EXPECT_EQ(course::translateShaderLog("ERROR: 1:3: 'x' : undeclared", paths),
+              "shaders/01/a.glsl:3: ERROR: 'x' : undeclared\n");
+    EXPECT_EQ(course::translateShaderLog("something else", paths), "something else\n");
+    // Mesa reports string 0 whatever #line said; the line number carries the file.
+    EXPECT_EQ(course::translateShaderLog("0:10004(12): error: `x' undeclared", paths),
+              "shaders/01/a.glsl:4: error: `x' undeclared\n");
+}

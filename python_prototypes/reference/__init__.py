@@ -1,0 +1,1 @@
+"""Independent numpy references for the chapter images (COURSE.md, 'Checks')."""

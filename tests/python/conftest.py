@@ -1,0 +1,128 @@
+"""Shared helpers for the chapter checks: run a chapter program from a temporary
+folder (never the repository: shaders must be found through the built-in path), read
+its images, and compare them with a reference."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+BIN = ROOT / "build" / "bin"
+sys.path.insert(0, str(ROOT / "python_prototypes"))
+
+BACKENDS = ["egl", "osmesa"]
+RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
+
+
+def pytest_configure(config):
+    for number in range(1, 20):
+        config.addinivalue_line("markers", f"chapter{number:02d}: checks of chapter {number:02d}")
+
+
+def pytest_collection_modifyitems(items):
+    # test_02_first_pixels.py -> marker chapter02, so ./course test 02 selects it.
+    for item in items:
+        match = re.match(r"test_(\d\d)_", Path(str(item.fspath)).name)
+        if match:
+            item.add_marker(getattr(pytest.mark, f"chapter{match.group(1)}"))
+
+
+@dataclass
+class Run:
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+def chapter_name(prefix: str) -> str:
+    names = [p.name for p in BIN.iterdir() if p.name.startswith(prefix + "_")]
+    assert names, f"chapter {prefix} is not built in {BIN}"
+    return names[0]
+
+
+def run_chapter(prefix: str, *args: str, cwd: Path | None = None, env: dict | None = None,
+                timeout: float = RUN_TIMEOUT) -> Run:
+    """Runs build/bin/<prefix>_* with args; the working folder is a scratch folder."""
+    program = BIN / chapter_name(prefix)
+    environment = dict(os.environ)
+    environment.pop("DISPLAY", None)  # headless unless a test puts a display back
+    environment.update(env or {})
+    result = subprocess.run([str(program), *map(str, args)], capture_output=True, text=True,
+                            cwd=cwd or Path.cwd(), env=environment, timeout=timeout)
+    return Run(result.returncode, result.stdout, result.stderr)
+
+
+@pytest.fixture(autouse=True)
+def _scratch_folder(tmp_path, monkeypatch):
+    """Every test runs in its own empty folder."""
+    monkeypatch.chdir(tmp_path)
+
+
+def render(prefix: str, out: Path, *args: str, **kwargs) -> np.ndarray:
+    """Renders with the chapter, asserts success, returns the image (PFM: linear float;
+    PNG: 8-bit sRGB as float 0..255)."""
+    result = run_chapter(prefix, "--headless", "--out", out, *args, **kwargs)
+    assert result.returncode == 0, result.stderr
+    return read_image(out)
+
+
+def read_image(path: Path) -> np.ndarray:
+    path = Path(path)
+    if path.suffix == ".pfm":
+        return read_pfm(path)
+    from PIL import Image
+    return np.asarray(Image.open(path).convert("RGB"), dtype=np.float64)
+
+
+def read_pfm(path: Path) -> np.ndarray:
+    """PFM: 'PF', 'width height', scale (negative: little-endian), bottom row first."""
+    data = Path(path).read_bytes()
+    header = data.split(b"\n", 3)
+    assert header[0] == b"PF", f"{path}: not an RGB PFM"
+    width, height = map(int, header[1].split())
+    scale = float(header[2])
+    dtype = "<f4" if scale < 0 else ">f4"
+    pixels = np.frombuffer(header[3], dtype=dtype, count=width * height * 3)
+    return pixels.reshape(height, width, 3)[::-1].astype(np.float64)
+
+
+def srgb_encode_8bit(linear: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function and rounding to 8 bits, as a PNG viewer expects."""
+    x = np.clip(np.nan_to_num(linear), 0.0, 1.0)
+    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.round(encoded * 255.0)
+
+
+def assert_images_agree(image: np.ndarray, reference: np.ndarray, *, within: float = 2.0,
+                        fraction: float = 0.995, mean_below: float = 0.5, label: str = ""):
+    """The course's image check for 8-bit images (COURSE.md): at least 99.5% of pixel
+    channels within 2/255 of the reference and a mean absolute error below 0.5/255."""
+    assert image.shape == reference.shape, f"{label}: shape {image.shape} != {reference.shape}"
+    error = np.abs(image - reference)
+    close = float(np.mean(np.all(error <= within, axis=-1)))
+    mean = float(np.mean(error))
+    assert close >= fraction and mean < mean_below, (
+        f"{label}: {close:.2%} of pixels within {within}/255 (need {fraction:.1%}), "
+        f"mean error {mean:.3f}/255 (need < {mean_below})")
+
+
+def copy_shaders(prefix: str, destination: Path) -> Path:
+    """A private copy of a checkpoint's shader folder, laid out as shaders/NN_name so
+    that messages show the short path; returns the folder for --shader-dir."""
+    name = chapter_name(prefix)
+    target = destination / "shaders" / name
+    shutil.copytree(ROOT / "shaders" / name, target)
+    return target
+
+
+def xvfb_available() -> bool:
+    return shutil.which("xvfb-run") is not None

@@ -1,0 +1,301 @@
+#!/usr/bin/env python3
+"""The verbs of ./course. The shell wrapper `course` has already installed what the
+machine needs (Debian packages, .venv) for every verb except help, list and diff."""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import fcntl
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+BUILD = ROOT / "build"
+OUT = BUILD / "out"
+BOOK = ROOT / "book"
+GENERATED = BOOK / "docs" / "generated"
+
+
+# ---------------------------------------------------------------- chapters
+
+def chapters() -> list[str]:
+    """Checkpoint names in order, from the add_chapter() lines of CMakeLists.txt."""
+    text = (ROOT / "CMakeLists.txt").read_text()
+    return re.findall(r"^add_chapter\((\w+)\)", text, flags=re.M)
+
+
+def chapter_summary(name: str) -> str:
+    """The first comment line of the chapter's main.cpp: '// Chapter 02: ...'."""
+    main = ROOT / "chapters" / name / "main.cpp"
+    for line in main.read_text().splitlines():
+        if line.startswith("// "):
+            return line[3:].split(": ", 1)[-1]
+    return ""
+
+
+def find_chapter(prefix: str) -> str:
+    matches = [c for c in chapters() if c == prefix or c.split("_")[0] == prefix.zfill(2)]
+    if not matches:
+        die(f"no chapter '{prefix}'; ./course list shows them", code=2)
+    return matches[0]
+
+
+def die(message: str, code: int = 1):
+    print(f"course: {message}", file=sys.stderr)
+    sys.exit(code)
+
+
+def say(message: str):
+    print(f"course: {message}", file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------- build
+
+@contextmanager
+def build_lock():
+    """Two ./course commands at once share one build folder: take turns."""
+    BUILD.mkdir(exist_ok=True)
+    with open(BUILD / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield
+
+
+def configure(build_type: str = "RelWithDebInfo", build_dir: Path = BUILD,
+              extra: list[str] | None = None):
+    if (build_dir / "build.ninja").exists() and not extra:
+        return
+    say(f"configuring the CMake build in {build_dir.relative_to(ROOT)}")
+    run_checked(["cmake", "-S", str(ROOT), "-B", str(build_dir), "-G", "Ninja",
+                 f"-DCMAKE_BUILD_TYPE={build_type}",
+                 f"-DPython3_EXECUTABLE={sys.executable}", *(extra or [])])
+
+
+def build(targets: list[str] | None = None):
+    with build_lock():
+        configure()
+        say("building" + (f" {' '.join(targets)}" if targets else " every chapter"))
+        run_checked(["cmake", "--build", str(BUILD), *(["--target", *targets] if targets else [])])
+
+
+def run_checked(command: list[str], **kwargs):
+    result = subprocess.run(command, **kwargs)
+    if result.returncode != 0:
+        die(f"failed ({result.returncode}): {' '.join(command)}", code=result.returncode)
+    return result
+
+
+def binary(name: str) -> Path:
+    return BUILD / "bin" / name
+
+
+# ---------------------------------------------------------------- verbs
+
+def cmd_setup(args):
+    with build_lock():
+        configure()
+    say("set up: Debian packages, .venv and the CMake build folder are ready")
+
+
+def cmd_build(args):
+    build()
+
+
+def cmd_list(args):
+    for name in chapters():
+        print(f"{name:24} {chapter_summary(name)}")
+
+
+def cmd_run(args):
+    names = chapters()
+    name = find_chapter(args.chapter) if args.chapter else names[-1]
+    build([name])
+    options = list(args.options)
+    if "--window" not in options and "--headless" not in options:
+        options.insert(0, "--headless")
+    out = None
+    if "--out" not in options and "--window" not in options and name != "01_buffer_add":
+        OUT.mkdir(parents=True, exist_ok=True)
+        out = OUT / f"{name}.png"
+        options += ["--out", str(out)]
+    say(f"running {name} {' '.join(options)}")
+    result = subprocess.run([str(binary(name)), *options], stdout=subprocess.PIPE, text=True)
+    if result.stdout and (out is None or "--json" in options):
+        print(result.stdout, end="")
+    if result.returncode != 0:
+        sys.exit(result.returncode)
+    if out is not None:
+        print(out)
+
+
+def cmd_test(args):
+    build()
+    started = time.time()
+    passed = failed = 0
+    if not args.chapter and not args.k:
+        say("C++ unit tests (ctest)")
+        result = subprocess.run(["ctest", "--test-dir", str(BUILD), "--output-on-failure",
+                                 "-j", "2"], stdout=subprocess.PIPE, text=True)
+        print(result.stdout)
+        match = re.search(r"(\d+)% tests passed, (\d+) tests failed out of (\d+)", result.stdout)
+        if match:
+            failed += int(match.group(2))
+            passed += int(match.group(3)) - int(match.group(2))
+        elif result.returncode != 0:
+            failed += 1
+    say("image checks and chapter tests (pytest)")
+    pytest = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python"), "-q",
+              "-p", "no:cacheprovider", "-rfE"]
+    if args.chapter:
+        pytest += ["-m", f"chapter{find_chapter(args.chapter)[:2]}"]
+    if args.k:
+        pytest += ["-k", args.k]
+    result = subprocess.run(pytest, stdout=subprocess.PIPE, text=True)
+    print(result.stdout)
+    counts = dict((kind, int(n)) for n, kind in
+                  re.findall(r"(\d+) (passed|failed|error|errors|skipped)", result.stdout))
+    passed += counts.get("passed", 0)
+    failed += counts.get("failed", 0) + counts.get("error", 0) + counts.get("errors", 0)
+    skipped = counts.get("skipped", 0)
+    if result.returncode not in (0, 1) and failed == 0:
+        failed += 1  # pytest itself broke (collection error, no tests)
+    minutes = (time.time() - started) / 60
+    say(f"tests took {minutes:.1f} min")
+    # A skipped check is not a passed one: it counts as a failure here.
+    print(f"{passed} passed, {failed + skipped} failed")
+    sys.exit(0 if failed + skipped == 0 else 1)
+
+
+def checkpoint_files(name: str) -> dict[str, Path]:
+    files = {}
+    for top in ("chapters", "shaders"):
+        folder = ROOT / top / name
+        for path in sorted(folder.rglob("*")) if folder.exists() else []:
+            if path.is_file():
+                files[f"{top}/{path.relative_to(folder)}"] = path
+    return files
+
+
+def checkpoint_diff(a: str, b: str) -> list[tuple[str, list[str]]]:
+    """Per file, the unified diff from checkpoint a to checkpoint b."""
+    old, new = checkpoint_files(a), checkpoint_files(b)
+    result = []
+    for key in sorted(set(old) | set(new)):
+        before = old[key].read_text().splitlines() if key in old else []
+        after = new[key].read_text().splitlines() if key in new else []
+        top, rest = key.split("/", 1)
+        lines = list(difflib.unified_diff(
+            before, after, f"{top}/{a}/{rest}" if key in old else "/dev/null",
+            f"{top}/{b}/{rest}" if key in new else "/dev/null", lineterm=""))
+        if lines:
+            result.append((key, lines))
+    return result
+
+
+def cmd_diff(args):
+    a, b = find_chapter(args.a), find_chapter(args.b)
+    diffs = checkpoint_diff(a, b)
+    color = sys.stdout.isatty() and not args.no_color
+    if args.stat:
+        for key, lines in diffs:
+            plus = sum(1 for l in lines if l.startswith("+") and not l.startswith("+++"))
+            minus = sum(1 for l in lines if l.startswith("-") and not l.startswith("---"))
+            print(f" {key:44} | +{plus} -{minus}")
+        print(f" {len(diffs)} files changed from {a} to {b}")
+        return
+    paint = {"+": "\033[32m", "-": "\033[31m", "@": "\033[36m"}
+    for _, lines in diffs:
+        for line in lines:
+            if color and line[:1] in paint and not line.startswith(("+++", "---")):
+                print(f"{paint[line[0]]}{line}\033[0m")
+            elif color and line.startswith(("+++", "---")):
+                print(f"\033[1m{line}\033[0m")
+            else:
+                print(line)
+
+
+def render_book_figures():
+    """Every picture in the book comes from the real programs, listed in figures.tsv."""
+    GENERATED.mkdir(parents=True, exist_ok=True)
+    rows = [line.split("\t") for line in (BOOK / "figures.tsv").read_text().splitlines()
+            if line.strip() and not line.startswith("#")]
+    for figure, program, arguments in rows:
+        out = GENERATED / figure
+        if program.startswith("python_prototypes/"):
+            command = [sys.executable, str(ROOT / program), *arguments.split(), "--figure", str(out)]
+        else:
+            command = [str(binary(find_chapter(program))), "--headless", "--out", str(out),
+                       *arguments.split()]
+        say(f"figure {figure}")
+        run_checked(command, cwd=ROOT, stdout=subprocess.DEVNULL)
+    names = chapters()
+    for a, b in zip(names, names[1:]):
+        lines = [l for _, d in checkpoint_diff(a, b) for l in d]
+        (GENERATED / f"diff_{a[:2]}_{b[:2]}.diff").write_text("\n".join(lines) + "\n")
+
+
+def cmd_book(args):
+    build()
+    render_book_figures()
+    mkdocs = [sys.executable, "-m", "mkdocs"]
+    config = str(BOOK / "mkdocs.yml")
+    if args.serve:
+        run_checked([*mkdocs, "serve", "-f", config])
+    else:
+        run_checked([*mkdocs, "build", "--strict", "-q", "-f", config])
+        print(BOOK / "site" / "index.html")
+
+
+# ---------------------------------------------------------------- command line
+
+def main():
+    parser = argparse.ArgumentParser(
+        prog="./course", description="The GPU ray tracing course. Start with: ./course run")
+    verbs = parser.add_subparsers(dest="verb", metavar="VERB")
+
+    verbs.add_parser("setup", help="install what the course needs and configure the build")
+    verbs.add_parser("build", help="build every chapter")
+    verbs.add_parser("list", help="the chapters, one line each")
+
+    run = verbs.add_parser("run", help="build and run a chapter headless (default: the last)",
+                           description="Runs a chapter; options after the chapter number "
+                           "go to the chapter program (see its --help).")
+    run.add_argument("chapter", nargs="?", help="chapter number, e.g. 02")
+    run.add_argument("options", nargs=argparse.REMAINDER, help="chapter options")
+
+    test = verbs.add_parser("test", help="build everything and run every check")
+    test.add_argument("chapter", nargs="?", help="only this chapter's checks")
+    test.add_argument("-k", help="only pytest checks matching this expression")
+
+    diff = verbs.add_parser("diff", help="what checkpoint B adds to checkpoint A")
+    diff.add_argument("a")
+    diff.add_argument("b")
+    diff.add_argument("--stat", action="store_true", help="a summary per file")
+    diff.add_argument("--no-color", action="store_true")
+
+    book = verbs.add_parser("book", help="render the figures and build the book")
+    book.add_argument("--serve", action="store_true", help="preview on localhost:8000")
+
+    parser.add_argument_group()
+    args, unknown = parser.parse_known_args()
+    if args.verb is None or args.verb == "help":
+        parser.print_help()
+        return
+    if unknown and args.verb != "run":
+        parser.error(f"unrecognised arguments: {' '.join(unknown)}")
+    if args.verb == "run":
+        args.options = list(args.options) + unknown
+        if args.chapter and args.chapter.startswith("-"):
+            args.options.insert(0, args.chapter)
+            args.chapter = None
+    globals()[f"cmd_{args.verb}"](args)
+
+
+if __name__ == "__main__":
+    main()
