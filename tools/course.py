@@ -243,6 +243,7 @@ def render_book_figures():
 def cmd_book(args):
     build()
     render_book_figures()
+    os.environ["NO_MKDOCS_2_WARNING"] = "1"  # Material 9.7+ advertises its successor
     mkdocs = [sys.executable, "-m", "mkdocs"]
     config = str(BOOK / "mkdocs.yml")
     if args.serve:
