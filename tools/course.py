@@ -247,9 +247,10 @@ def cmd_book(args):
     mkdocs = [sys.executable, "-m", "mkdocs"]
     config = str(BOOK / "mkdocs.yml")
     if args.serve:
-        run_checked([*mkdocs, "serve", "-f", config])
+        run_checked([*mkdocs, "serve", "-f", config], cwd=ROOT)
     else:
-        run_checked([*mkdocs, "build", "--strict", "-q", "-f", config])
+        # cwd: snippet paths in the pages are relative to the repository root.
+        run_checked([*mkdocs, "build", "--strict", "-q", "-f", config], cwd=ROOT)
         print(BOOK / "site" / "index.html")
 
 
