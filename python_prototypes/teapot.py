@@ -21,7 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-DEFAULT_PATCH_FILE = Path(__file__).resolve().parents[2] / "shared/data/newell_teapot.txt"
+# The patch data ships with the course (public domain), so a fresh clone has it.
+DEFAULT_PATCH_FILE = Path(__file__).resolve().parents[1] / "assets/data/newell_teapot.txt"
 # Of the standard data set; --triangles uses them to pick N.
 PATCH_COUNT = 32
 DEGENERATE_PATCH_COUNT = 8  # 4 at the lid knob + 4 at the bottom centre

@@ -30,8 +30,7 @@ def read_tsv(path):
 
 @pytest.fixture(scope="module")
 def teapot_patches():
-    if not teapot.DEFAULT_PATCH_FILE.exists():
-        pytest.skip(f"no teapot data at {teapot.DEFAULT_PATCH_FILE}")
+    assert teapot.DEFAULT_PATCH_FILE.exists(), f"no teapot data at {teapot.DEFAULT_PATCH_FILE}"
     return teapot.load_patches(teapot.DEFAULT_PATCH_FILE)
 
 
