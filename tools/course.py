@@ -74,14 +74,16 @@ def configure(build_type: str = "RelWithDebInfo", build_dir: Path = BUILD,
     say(f"configuring the CMake build in {build_dir.relative_to(ROOT)}")
     run_checked(["cmake", "-S", str(ROOT), "-B", str(build_dir), "-G", "Ninja",
                  f"-DCMAKE_BUILD_TYPE={build_type}",
-                 f"-DPython3_EXECUTABLE={sys.executable}", *(extra or [])])
+                 f"-DPython3_EXECUTABLE={sys.executable}", *(extra or [])], stdout=sys.stderr)
 
 
 def build(targets: list[str] | None = None):
     with build_lock():
         configure()
         say("building" + (f" {' '.join(targets)}" if targets else " every chapter"))
-        run_checked(["cmake", "--build", str(BUILD), *(["--target", *targets] if targets else [])])
+        # Build output goes to stderr: stdout carries only results (a path, JSON).
+        run_checked(["cmake", "--build", str(BUILD), *(["--target", *targets] if targets else [])],
+                    stdout=sys.stderr)
 
 
 def run_checked(command: list[str], **kwargs):
