@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
 BUILD = ROOT / "build"
 OUT = BUILD / "out"
 BOOK = ROOT / "book"
@@ -256,6 +257,18 @@ def cmd_book(args):
         print(BOOK / "site" / "index.html")
 
 
+def cmd_release(args):
+    import classroom
+    name = find_chapter(args.chapter)
+    out = Path(args.out) if args.out else BUILD / "release" / f"{name}-starter"
+    try:
+        classroom.check_all_markers(ROOT)
+        classroom.release(ROOT, name, out.resolve())
+    except classroom.MarkerError as error:
+        die(str(error), code=3)
+    print(out.resolve())
+
+
 # ---------------------------------------------------------------- command line
 
 def main():
@@ -286,7 +299,12 @@ def main():
     book = verbs.add_parser("book", help="render the figures and build the book")
     book.add_argument("--serve", action="store_true", help="preview on localhost:8000")
 
-    parser.add_argument_group()
+    release = verbs.add_parser("release", help="write a student starter for a chapter",
+                               description="Copies the checkpoint with every BEGIN/END "
+                               "SOLUTION block replaced by its TODO hint and STUB lines.")
+    release.add_argument("chapter")
+    release.add_argument("--out", help="folder to write (default build/release/NN_name-starter)")
+
     args, unknown = parser.parse_known_args()
     if args.verb is None or args.verb == "help":
         parser.print_help()

@@ -13,6 +13,7 @@ void main() {
     if (index >= imageSize.x * imageSize.y) return;  // the last group overhangs
     // BEGIN SOLUTION turn the flat index into a column and a row
     uvec2 pixel = uvec2(index % imageSize.x, index / imageSize.x);
+    // STUB: uvec2 pixel = uvec2(0u);
     // END SOLUTION
     // --8<-- [end:index]
     pixels[index] = vec4(patternColor(pixel, imageSize), 1.0);

@@ -1,0 +1,109 @@
+"""Classroom: solution markers are well formed everywhere, and a starter release builds,
+runs, and draws a wrong picture instead of crashing."""
+
+import json
+import shlex
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, read_image, srgb_encode_8bit
+
+sys.path.insert(0, str(ROOT / "tools"))
+import classroom  # noqa: E402
+
+BUILD = ROOT / "build"
+
+
+def test_every_marker_in_the_repository_is_balanced():
+    assert classroom.check_all_markers(ROOT) > 0
+
+
+@pytest.mark.parametrize("text,line,message", [
+    ("a\n// BEGIN SOLUTION x\nb\n", 2, "never closed"),
+    ("// END SOLUTION\n", 1, "without BEGIN"),
+    ("// BEGIN SOLUTION\n// BEGIN SOLUTION\n// END SOLUTION\n", 2, "cannot nest"),
+    ("x\n// STUB: y\n", 2, "STUB outside"),
+])
+def test_bad_markers_name_file_and_line(text, line, message):
+    with pytest.raises(classroom.MarkerError, match=f"shader.comp:{line}: .*{message}"):
+        classroom.find_blocks(text, "shader.comp")
+
+
+def test_strip_keeps_hint_and_stub():
+    text = ("void f() {\n    // BEGIN SOLUTION add them\n    x = a + b;\n"
+            "    // STUB: x = 0;\n    // END SOLUTION\n}\n")
+    assert classroom.strip_solutions(text, "f.glsl") == (
+        "void f() {\n    // TODO: add them\n    x = 0;\n}\n")
+
+
+def released_chapters():
+    chapters = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.is_dir())
+    return [c for c in chapters
+            if any(classroom.find_blocks(f.read_text(), str(f))
+                   for top in ("chapters", "shaders") for f in (ROOT / top / c).rglob("*")
+                   if f.suffix in classroom.MARKED_SUFFIXES)]
+
+
+def compile_starter(starter, chapter):
+    """Compiles the starter's host code with the flags CMake used for the solution,
+    pointed at the starter's folders, and links it with the instructor's common layer."""
+    commands = json.loads((BUILD / "compile_commands.json").read_text())
+    objects = []
+    for source in sorted((starter / "chapters" / chapter).glob("*.cpp")):
+        original = ROOT / "chapters" / chapter / source.name
+        entry = next(c for c in commands if c["file"] == str(original))
+        arguments = shlex.split(entry["command"])
+        swapped = [a.replace(str(ROOT / "chapters" / chapter), str(starter / "chapters" / chapter))
+                   .replace(str(ROOT / "shaders" / chapter), str(starter / "shaders" / chapter))
+                   for a in arguments]
+        out = starter / (source.stem + ".o")
+        swapped[swapped.index("-o") + 1] = str(out)
+        swapped[swapped.index("-c") + 1] = str(source)
+        result = subprocess.run(swapped, capture_output=True, text=True, cwd=entry["directory"])
+        assert result.returncode == 0, result.stderr
+        objects.append(str(out))
+    program = starter / chapter
+    link = ["g++", *objects, "-o", str(program), str(BUILD / "common" / "libcourse_common.a"),
+            str(BUILD / "libglad.a"), "-lEGL", "-lglfw", "-ldl", "-lpthread"]
+    result = subprocess.run(link, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    return program
+
+
+@pytest.mark.parametrize("chapter", released_chapters())
+def test_starter_builds_runs_and_is_wrong(tmp_path, chapter):
+    starter = classroom.release(ROOT, chapter, tmp_path / "starter")
+    text = "".join(p.read_text() for p in starter.rglob("*")
+                   if p.is_file() and p.suffix in classroom.MARKED_SUFFIXES)
+    assert "BEGIN SOLUTION" not in text and "END SOLUTION" not in text
+    assert "TODO:" in text
+    later = [c.name for c in (ROOT / "chapters").iterdir() if c.name > chapter]
+    for name in later:
+        assert not list(starter.rglob(f"*{name}*")), f"{name} leaked into the starter"
+    assert (starter / "README.md").exists()
+
+    program = compile_starter(starter, chapter)
+    if chapter.startswith("01"):
+        result = subprocess.run([str(program), "--count", "100"], capture_output=True,
+                                text=True, timeout=120)
+        assert result.returncode == 1 and "sums are wrong" in result.stderr  # no crash
+        return
+    out = tmp_path / "starter.png"
+    result = subprocess.run([str(program), "--headless", "--width", "64", "--height", "48",
+                             "--out", str(out)], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    solution = tmp_path / "solution.png"
+    subprocess.run([str(BUILD / "bin" / chapter), "--headless", "--width", "64", "--height",
+                    "48", "--out", str(solution)], check=True, capture_output=True)
+    difference = np.abs(read_image(out) - read_image(solution))
+    assert np.mean(difference > 2) > 0.5, "the starter should not draw the right picture"
+
+
+def test_release_verb_writes_a_starter(tmp_path):
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "release", "02",
+                             "--out", str(tmp_path / "s")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "s" / "chapters" / "02_first_pixels" / "main.cpp").exists()

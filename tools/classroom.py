@@ -1,0 +1,188 @@
+"""Classroom tooling: solution markers and starter releases.
+
+Lesson code marks what a student writes:
+
+    // BEGIN SOLUTION turn the flat index into a column and a row
+    uvec2 pixel = uvec2(index % imageSize.x, index / imageSize.x);
+    // STUB: uvec2 pixel = uvec2(0u);
+    // END SOLUTION
+
+A starter release replaces each block by a TODO carrying the hint from the BEGIN line,
+followed by the block's STUB lines uncommented, so the starter still compiles and runs
+(and draws a wrong picture). The same markers work in C++ and GLSL.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+BEGIN = re.compile(r"^(?P<indent>\s*)//\s*BEGIN SOLUTION\b\s*(?P<hint>.*)$")
+END = re.compile(r"^\s*//\s*END SOLUTION\b")
+STUB = re.compile(r"^\s*//\s*STUB:\s?(?P<code>.*)$")
+MARKED_SUFFIXES = {".cpp", ".h", ".hpp", ".comp", ".glsl", ".vert", ".frag"}
+
+
+class MarkerError(Exception):
+    """An unbalanced or nested marker, with file:line."""
+
+
+@dataclass
+class Block:
+    begin_line: int  # 1-based
+    end_line: int
+    hint: str
+
+
+def find_blocks(text: str, path: str) -> list[Block]:
+    """The solution blocks of a file; raises MarkerError naming file:line when the
+    markers are unbalanced or nested, or a STUB stands outside a block."""
+    blocks, open_line, hint = [], None, ""
+    for number, line in enumerate(text.splitlines(), start=1):
+        if begin := BEGIN.match(line):
+            if open_line is not None:
+                raise MarkerError(f"{path}:{number}: BEGIN SOLUTION inside the block opened "
+                                  f"at line {open_line} (blocks cannot nest)")
+            open_line, hint = number, begin.group("hint").strip()
+        elif END.match(line):
+            if open_line is None:
+                raise MarkerError(f"{path}:{number}: END SOLUTION without BEGIN SOLUTION")
+            blocks.append(Block(open_line, number, hint))
+            open_line = None
+        elif STUB.match(line) and open_line is None:
+            raise MarkerError(f"{path}:{number}: STUB outside a solution block")
+    if open_line is not None:
+        raise MarkerError(f"{path}:{open_line}: BEGIN SOLUTION is never closed")
+    return blocks
+
+
+def strip_solutions(text: str, path: str) -> str:
+    """The starter version of a file: every block becomes its TODO and stubs."""
+    find_blocks(text, path)  # validate first
+    out, inside = [], False
+    for line in text.splitlines(keepends=True):
+        if begin := BEGIN.match(line):
+            inside = True
+            hint = begin.group("hint").strip() or "write this part"
+            out.append(f"{begin.group('indent')}// TODO: {hint}\n")
+        elif END.match(line):
+            inside = False
+        elif inside:
+            if stub := STUB.match(line):
+                indent = line[: len(line) - len(line.lstrip())]
+                out.append(f"{indent}{stub.group('code')}\n")
+        else:
+            out.append(line)
+    return "".join(out)
+
+
+def marked_files(root: Path) -> list[Path]:
+    files = []
+    for top in ("chapters", "shaders", "common"):
+        for path in sorted((root / top).rglob("*")):
+            if path.is_file() and path.suffix in MARKED_SUFFIXES:
+                files.append(path)
+    return files
+
+
+def check_all_markers(root: Path) -> int:
+    """Validates every marked file in the repository; returns the number of blocks."""
+    count = 0
+    for path in marked_files(root):
+        count += len(find_blocks(path.read_text(), str(path.relative_to(root))))
+    return count
+
+
+# ---------------------------------------------------------------- release
+
+STUDENT_README = """# Chapter {number}: {title}
+
+This is the starter code for chapter {name} of the GPU ray tracing course. The parts
+you write are marked `TODO` in `chapters/{name}/` and `shaders/{name}/`; the chapter's
+page is in `book/{name}.md`.
+
+```bash
+./course run {number}     # build and render; prints the PNG's path
+./course test {number}    # the same checks your grader runs
+```
+
+Until you fill in the TODOs, the program builds and runs but draws the wrong picture
+(or, for chapter 01, reports wrong sums). Hand in this whole folder.
+"""
+
+
+def imported_prototypes(test_file: Path, prototypes: Path) -> set[Path]:
+    """The python_prototypes modules a chapter's tests import (and what they import)."""
+    wanted, queue = set(), [test_file]
+    while queue:
+        text = queue.pop().read_text()
+        for module in re.findall(r"^\s*(?:from|import)\s+([\w.]+)", text, flags=re.M):
+            candidate = prototypes / (module.replace(".", "/") + ".py")
+            if candidate.exists() and candidate not in wanted:
+                wanted.add(candidate)
+                queue.append(candidate)
+                package_init = candidate.parent / "__init__.py"
+                if package_init.exists():
+                    wanted.add(package_init)
+    return wanted
+
+
+def release(root: Path, chapter: str, out: Path) -> Path:
+    """Writes the starter of `chapter` (e.g. '04_spheres') into `out`."""
+    number = chapter[:2]
+    if out.exists():
+        shutil.rmtree(out)
+    out.mkdir(parents=True)
+
+    def copy(relative: str):
+        source, target = root / relative, out / relative
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if source.is_dir():
+            shutil.copytree(source, target, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy2(source, target)
+
+    for relative in ("course", "requirements.txt", "tools/course.py", "cmake", "common",
+                     "tests/python/conftest.py", "tests/python/test_command_line.py",
+                     ".gitignore"):
+        copy(relative)
+    if (root / "assets" / "data").exists():
+        copy("assets/data")  # small source data (the teapot patches) the build may use
+    tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
+    for test in tests:
+        copy(str(test.relative_to(root)))
+        for module in imported_prototypes(test, root / "python_prototypes"):
+            copy(str(module.relative_to(root)))
+
+    # The chapter itself, with the solutions taken out.
+    for top in ("chapters", "shaders"):
+        for source in sorted((root / top / chapter).rglob("*")):
+            if not source.is_file():
+                continue
+            target = out / source.relative_to(root)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            if source.suffix in MARKED_SUFFIXES:
+                relative = str(source.relative_to(root))
+                target.write_text(strip_solutions(source.read_text(), relative))
+            else:
+                shutil.copy2(source, target)
+
+    # A build of this one chapter: no unit tests, no other chapters.
+    cmake = (root / "CMakeLists.txt").read_text()
+    cmake = re.sub(r"^add_chapter\((?!" + chapter + r"\)).*\n", "", cmake, flags=re.M)
+    cmake = re.sub(r"^enable_testing\(\)\n|^add_subdirectory\(tests/cpp\)\n", "", cmake,
+                   flags=re.M)
+    (out / "CMakeLists.txt").write_text(cmake)
+
+    page = root / "book" / "docs" / "chapters" / f"{chapter}.md"
+    title = chapter[3:].replace("_", " ")
+    if page.exists():
+        (out / "book").mkdir(exist_ok=True)
+        shutil.copy2(page, out / "book" / page.name)
+        heading = page.read_text().splitlines()[0]
+        title = heading.split("·", 1)[-1].strip() if "·" in heading else title
+    (out / "README.md").write_text(STUDENT_README.format(number=number, name=chapter,
+                                                         title=title))
+    return out
