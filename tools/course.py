@@ -269,6 +269,21 @@ def cmd_release(args):
     print(out.resolve())
 
 
+def cmd_grade(args):
+    import grader
+    name = find_chapter(args.chapter)
+    if name[:2] not in grader.SPECS:
+        die(f"chapter {name} has no grading tests yet (tools/grading_specs.py)", code=2)
+    submission = Path(args.submission).resolve()
+    if not submission.is_dir():
+        die(f"--submission {submission}: not a folder", code=2)
+    build([name])
+    out = Path(args.out).resolve() if args.out else BUILD / "grades" / submission.name
+    results = grader.grade(ROOT, BUILD, name, submission, out, args.show_hidden)
+    grader.print_table(results)
+    print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
+
+
 # ---------------------------------------------------------------- command line
 
 def main():
@@ -304,6 +319,15 @@ def main():
                                "SOLUTION block replaced by its TODO hint and STUB lines.")
     release.add_argument("chapter")
     release.add_argument("--out", help="folder to write (default build/release/NN_name-starter)")
+
+    grade = verbs.add_parser("grade", help="grade a student submission of a chapter",
+                             description="Builds and runs the submission headless with "
+                             "limits and compares its images with the solution's.")
+    grade.add_argument("chapter")
+    grade.add_argument("--submission", required=True, help="the student's folder")
+    grade.add_argument("--out", help="where results.json and report.md go")
+    grade.add_argument("--show-hidden", action="store_true",
+                       help="include hidden tests' details in the report")
 
     args, unknown = parser.parse_known_args()
     if args.verb is None or args.verb == "help":

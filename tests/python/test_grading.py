@@ -1,0 +1,105 @@
+"""The autograder: the solution scores full marks, the starter nearly nothing, a planted
+bug loses exactly the tests it should, and broken submissions (not compiling, crashing,
+hanging, flooding the output) fail cleanly while the grader stays healthy."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+import classroom  # noqa: E402
+
+COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
+FAST_LIMITS = {"COURSE_GRADE_WALL_SECONDS": "10", "COURSE_GRADE_CPU_SECONDS": "6"}
+
+
+def solution_copy(chapter, destination):
+    for top in ("chapters", "shaders"):
+        shutil.copytree(ROOT / top / chapter, destination / top / chapter)
+    return destination
+
+
+def grade(chapter, submission, out):
+    env = dict(os.environ, **FAST_LIMITS)
+    result = subprocess.run([*COURSE, "grade", chapter[:2], "--submission", str(submission),
+                             "--out", str(out)], capture_output=True, text=True, env=env,
+                            timeout=600)
+    assert result.returncode == 0, result.stderr[-2000:]
+    results = json.loads((out / "results.json").read_text())
+    return results, {t["name"]: t for t in results["tests"]}
+
+
+def total(results):
+    return sum(t["max_score"] for t in results["tests"])
+
+
+@pytest.mark.parametrize("chapter", ["01_buffer_add", "02_first_pixels"])
+def test_solution_full_marks_and_starter_near_zero(tmp_path, chapter):
+    results, _ = grade(chapter, solution_copy(chapter, tmp_path / "solution"), tmp_path / "g1")
+    assert results["score"] == total(results)
+    starter = classroom.release(ROOT, chapter, tmp_path / "starter")
+    results, tests = grade(chapter, starter, tmp_path / "g2")
+    assert results["score"] <= 0.1 * total(results), tests
+
+
+def test_results_json_is_gradescope_shaped_and_report_has_images(tmp_path):
+    results, _ = grade("02", solution_copy("02_first_pixels", tmp_path / "s"), tmp_path / "g")
+    assert set(results) >= {"score", "tests", "output"}
+    for test in results["tests"]:
+        assert set(test) >= {"name", "score", "max_score", "output", "visibility"}
+        assert test["visibility"] in ("visible", "hidden", "after_due_date", "after_published")
+    assert any(t["visibility"] == "after_due_date" for t in results["tests"])
+    report = (tmp_path / "g" / "report.md").read_text()
+    assert "pattern_1d_dispatch_error.png" in report
+    assert (tmp_path / "g" / "pattern_1d_dispatch_error.png").stat().st_size > 100
+
+
+def test_planted_bug_loses_exactly_the_1d_tests(tmp_path):
+    submission = solution_copy("02_first_pixels", tmp_path / "buggy")
+    shader = submission / "shaders" / "02_first_pixels" / "pattern_1d.comp"
+    text = shader.read_text()
+    shader.write_text(text.replace("uvec2(index % imageSize.x, index / imageSize.x)",
+                                   "uvec2(index / imageSize.x, index % imageSize.x)"))
+    results, tests = grade("02", submission, tmp_path / "g")
+    assert tests["pattern, 2D dispatch"]["score"] == tests["pattern, 2D dispatch"]["max_score"]
+    assert tests["pattern, 1D dispatch"]["score"] == 0
+    assert tests["odd size, 1D dispatch"]["score"] == 0
+
+
+def break_main(submission, chapter, code):
+    main = submission / "chapters" / chapter / "main.cpp"
+    text = main.read_text()
+    main.write_text(text.replace("return course::run(", code + "\n    return course::run(", 1))
+
+
+@pytest.mark.parametrize("kind,code,message", [
+    ("not compiling", "this is not C++;", "does not build"),
+    ("crashing", "std::abort();", "crashed with signal SIGABRT"),
+    ("hanging", "for (volatile int spin = 0;; ) {}", "s of CPU time (killed)"),
+    ("sleeping", "for (;;) sleep(1);", "did not finish within 10 s (killed)"),
+    ("flooding", "for (int i = 0; i < 2000000; ++i) std::puts(\"spam spam spam\");",
+     "output cut"),
+])
+def test_broken_submissions_fail_cleanly(tmp_path, kind, code, message):
+    submission = solution_copy("01_buffer_add", tmp_path / kind)
+    break_main(submission, "01_buffer_add", code)
+    main = submission / "chapters" / "01_buffer_add" / "main.cpp"
+    main.write_text("#include <unistd.h>\n#include <cstdlib>\n#include <cstdio>\n" +
+                    main.read_text())
+    results, tests = grade("01", submission, tmp_path / "g")
+    assert results["score"] == 0
+    assert any(message in t["output"] for t in tests.values()), tests
+    assert all(len(t["output"]) < 25_000 for t in tests.values())
+
+
+def test_missing_folders_are_reported(tmp_path):
+    (tmp_path / "empty").mkdir()
+    results, tests = grade("02", tmp_path / "empty", tmp_path / "g")
+    assert results["score"] == 0
+    assert "no chapters/02_first_pixels/" in results["output"]
