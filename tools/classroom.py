@@ -185,4 +185,73 @@ def release(root: Path, chapter: str, out: Path) -> Path:
         title = heading.split("·", 1)[-1].strip() if "·" in heading else title
     (out / "README.md").write_text(STUDENT_README.format(number=number, name=chapter,
                                                          title=title))
+    workflow = out / ".github" / "workflows" / "classroom.yml"
+    workflow.parent.mkdir(parents=True)
+    workflow.write_text(CLASSROOM_WORKFLOW.format(number=number))
+    return out
+
+
+# ---------------------------------------------------------------- autograder packages
+
+GRADESCOPE_SETUP = """#!/usr/bin/env bash
+# Gradescope runs this once, as root, when the autograder image is built.
+set -euo pipefail
+cd /autograder/source/course
+./course setup
+./course build
+"""
+
+GRADESCOPE_RUN = """#!/usr/bin/env bash
+# Gradescope runs this for every submission; results.json must land in /autograder/results.
+set -uo pipefail
+cd /autograder/source/course
+./course grade {number} --submission /autograder/submission --out /autograder/results
+"""
+
+CLASSROOM_WORKFLOW = """# GitHub Classroom: run this chapter's checks on every push.
+name: autograding
+on: [push, workflow_dispatch]
+permissions:
+  contents: read
+jobs:
+  checks:
+    runs-on: ubuntu-24.04
+    timeout-minutes: 30
+    steps:
+      - uses: actions/checkout@v4
+      - name: chapter {number} checks
+        run: sudo ./course setup && ./course test {number}
+"""
+
+
+def tracked_files(root: Path) -> list[Path]:
+    import subprocess
+    listed = subprocess.run(["git", "ls-files"], cwd=root, capture_output=True, text=True)
+    if listed.returncode == 0 and listed.stdout.strip():
+        return [root / line for line in listed.stdout.splitlines()]
+    return [p for p in root.rglob("*") if p.is_file() and "build" not in p.parts
+            and ".venv" not in p.parts]
+
+
+def autograder_zip(root: Path, chapter: str, out: Path) -> Path:
+    """A Gradescope autograder: setup.sh, run_autograder and the instructor's course."""
+    import stat
+    import zipfile
+    number = chapter[:2]
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
+        def add_text(name, text, executable=False):
+            info = zipfile.ZipInfo(name)
+            mode = 0o755 if executable else 0o644
+            info.external_attr = (stat.S_IFREG | mode) << 16
+            archive.writestr(info, text)
+        add_text("setup.sh", GRADESCOPE_SETUP, executable=True)
+        add_text("run_autograder", GRADESCOPE_RUN.format(number=number), executable=True)
+        for path in tracked_files(root):
+            if path.is_file():
+                mode = path.stat().st_mode
+                info = zipfile.ZipInfo(f"course/{path.relative_to(root)}")
+                info.external_attr = (stat.S_IFREG | (mode & 0o777)) << 16
+                info.compress_type = zipfile.ZIP_DEFLATED
+                archive.writestr(info, path.read_bytes())
     return out

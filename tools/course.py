@@ -284,6 +284,13 @@ def cmd_grade(args):
     print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
 
 
+def cmd_autograder(args):
+    import classroom
+    name = find_chapter(args.chapter)
+    out = Path(args.out) if args.out else BUILD / "autograder" / f"{name}-autograder.zip"
+    print(classroom.autograder_zip(ROOT, name, out.resolve()))
+
+
 # ---------------------------------------------------------------- command line
 
 def main():
@@ -328,6 +335,10 @@ def main():
     grade.add_argument("--out", help="where results.json and report.md go")
     grade.add_argument("--show-hidden", action="store_true",
                        help="include hidden tests' details in the report")
+
+    autograder = verbs.add_parser("autograder", help="build a Gradescope autograder zip")
+    autograder.add_argument("chapter")
+    autograder.add_argument("--out", help="zip to write")
 
     args, unknown = parser.parse_known_args()
     if args.verb is None or args.verb == "help":

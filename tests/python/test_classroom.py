@@ -107,3 +107,30 @@ def test_release_verb_writes_a_starter(tmp_path):
                              "--out", str(tmp_path / "s")], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "s" / "chapters" / "02_first_pixels" / "main.cpp").exists()
+
+
+def test_autograder_zip_has_gradescope_entry_points(tmp_path):
+    import stat
+    import zipfile
+    out = tmp_path / "ag.zip"
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "autograder",
+                             "02", "--out", str(out)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    with zipfile.ZipFile(out) as archive:
+        names = archive.namelist()
+        for entry in ("setup.sh", "run_autograder", "course/course", "course/tools/grader.py",
+                      "course/chapters/02_first_pixels/main.cpp"):
+            assert entry in names
+        for entry in ("setup.sh", "run_autograder", "course/course"):
+            mode = archive.getinfo(entry).external_attr >> 16
+            assert mode & stat.S_IXUSR, f"{entry} must be executable"
+        run = archive.read("run_autograder").decode()
+        assert "./course grade 02 --submission /autograder/submission" in run
+        assert "--out /autograder/results" in run
+        assert not any(n.startswith("course/build/") or "/.venv/" in n for n in names)
+
+
+def test_starter_has_a_classroom_workflow(tmp_path):
+    starter = classroom.release(ROOT, "02_first_pixels", tmp_path / "s")
+    workflow = (starter / ".github" / "workflows" / "classroom.yml").read_text()
+    assert "./course test 02" in workflow
