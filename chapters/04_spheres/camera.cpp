@@ -1,0 +1,81 @@
+#include "camera.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "course/error.h"
+
+namespace {
+
+[[noreturn]] void badCamera(const std::string& message) {
+    course::fail(course::ExitCode::BadUsage, message + " (see --help)");
+}
+
+float parseNumber(const std::string& option, const std::string& text) {
+    char* end = nullptr;
+    float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value))
+        badCamera(option + " expects a finite number, got '" + text + "'");
+    return value;
+}
+
+glm::vec3 parseVector(const std::string& option, const std::string& text) {
+    std::vector<std::string> parts(1);
+    for (char c : text) {
+        if (c == ',')
+            parts.emplace_back();
+        else
+            parts.back().push_back(c);
+    }
+    if (parts.size() != 3)
+        badCamera(option + " expects three numbers x,y,z, got '" + text + "'");
+    return {parseNumber(option, parts[0]), parseNumber(option, parts[1]),
+            parseNumber(option, parts[2])};
+}
+
+}  // namespace
+
+// --8<-- [start:basis]
+Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
+                  float sensorWidth) {
+    if (glm::length(look) == 0.0f) badCamera("--camera-look must not be zero");
+    if (glm::length(up) == 0.0f) badCamera("--camera-up must not be zero");
+    if (!(focalLength > 0.0f) || !(sensorWidth > 0.0f))
+        badCamera("--focal-length and --sensor-width must be positive");
+    glm::vec3 forward = glm::normalize(look);
+    glm::vec3 side = glm::cross(forward, up);
+    // Looking straight along `up` leaves no way to tell right from left.
+    if (glm::length(side) < 1e-6f * glm::length(up))
+        badCamera("--camera-up must not be parallel to --camera-look");
+    glm::vec3 right = glm::normalize(side);
+    // `up` only had to point roughly upwards; this one is exactly perpendicular to
+    // forward and right, and of unit length because they are.
+    glm::vec3 trueUp = glm::cross(right, forward);
+    return Camera{eye, forward, right, trueUp, focalLength, sensorWidth};
+}
+// --8<-- [end:basis]
+
+void CameraOptions::declare(course::CommandLine& cli) {
+    cli.option("--camera-eye", "X,Y,Z", "camera position (default " + eye + ")", &eye);
+    cli.option("--camera-look", "X,Y,Z", "viewing direction (default " + look + ")", &look);
+    cli.option("--camera-up", "X,Y,Z", "roughly upwards (default " + up + ")", &up);
+    cli.option("--focal-length", "M", "metres (default " + focalLength + ")", &focalLength);
+    cli.option("--sensor-width", "M", "metres (default " + sensorWidth + ")", &sensorWidth);
+}
+
+Camera CameraOptions::camera() const {
+    return makeCamera(parseVector("--camera-eye", eye), parseVector("--camera-look", look),
+                      parseVector("--camera-up", up),
+                      parseNumber("--focal-length", focalLength),
+                      parseNumber("--sensor-width", sensorWidth));
+}
+
+void setCamera(const course::ShaderProgram& program, const Camera& camera) {
+    program.set("camera.eye", camera.eye);
+    program.set("camera.forward", camera.forward);
+    program.set("camera.right", camera.right);
+    program.set("camera.up", camera.up);
+    program.set("camera.focalLength", camera.focalLength);
+    program.set("camera.sensorWidth", camera.sensorWidth);
+}

@@ -1,0 +1,39 @@
+// The pinhole camera on the host side: its options on the command line, and the basis
+// the shader needs, computed once per image instead of once per pixel.
+#pragma once
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "course/cli.h"
+#include "course/shader_program.h"
+
+// Where the camera is and how it is built: the conventions of
+// python_prototypes/camera_rays.py, which the chapter 03 check compares ray by ray.
+struct Camera {
+    glm::vec3 eye;
+    glm::vec3 forward, right, up;  // orthonormal and right-handed
+    float focalLength;             // metres from the eye to the sensor
+    float sensorWidth;             // metres
+};
+
+// Builds the basis: forward along `look`, right perpendicular to `up`, and up
+// recomputed so the three are at right angles. Bad vectors are exit code 2.
+Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
+                  float sensorWidth);
+
+// --camera-eye, --camera-look, --camera-up, --focal-length, --sensor-width, as text
+// until the command line has been read.
+struct CameraOptions {
+    std::string eye = "0,1,4";
+    std::string look = "0,-0.25,-1";
+    std::string up = "0,1,0";
+    std::string focalLength = "0.035";  // a 35 mm lens ...
+    std::string sensorWidth = "0.036";  // ... on a 36 mm wide "full frame" sensor
+
+    void declare(course::CommandLine& cli);
+    Camera camera() const;  // parses and checks; exit code 2 with a message if wrong
+};
+
+// Sets the `camera` uniform struct of camera.glsl.
+void setCamera(const course::ShaderProgram& program, const Camera& camera);

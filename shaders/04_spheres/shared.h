@@ -1,0 +1,35 @@
+// Numbers and structs the C++ host and the GLSL shaders must agree on. Both sides read
+// this one file: GLSL sees the struct as it is, C++ sees it in namespace gpu with glm's
+// vector types. (C++ files include <glm/glm.hpp> and <cstddef> first: this file may not
+// #include anything, because the shader loader looks for includes in this folder.)
+#ifndef COURSE_SHARED_H
+#define COURSE_SHARED_H
+
+#define PIXELS_BINDING 0   // the image: one vec4 per pixel, row 0 at the top
+#define SPHERES_BINDING 1  // the scene's spheres
+
+// 8x8 tiles of invocations: neighbouring rays run together (chapter 02).
+#define TILE_SIZE 8
+
+#ifdef __cplusplus
+namespace gpu {
+using vec3 = glm::vec3;
+#endif
+
+// --8<-- [start:sphere]
+// One sphere in a std430 storage buffer: 16 bytes. In std430 a vec3 takes the space
+// of a vec4, so the float after it fills the fourth slot (chapter 07 tells that story).
+struct Sphere {
+    vec3 center;
+    float radius;
+};
+// --8<-- [end:sphere]
+
+#ifdef __cplusplus
+// The offsets GLSL's std430 rules give; a C++ struct that differs would scramble the
+// scene silently, so the compiler checks.
+static_assert(sizeof(Sphere) == 16 && offsetof(Sphere, radius) == 12, "std430 Sphere");
+}  // namespace gpu
+#endif
+
+#endif
