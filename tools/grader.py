@@ -167,12 +167,15 @@ def agreement(image: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
 
 
 def image_score(fraction: float, mean_error: float) -> float:
-    """Full marks at the course's bar (99.5% within 2/255, mean < 0.5/255); below it,
-    credit falls linearly to zero at 50% of pixels right, so a mostly-right picture
-    with a small mistake keeps some credit and a wrong picture gets none."""
+    """Full marks at the course's bar (99.5% of pixels within 2/255, mean < 0.5/255);
+    half marks for a near miss (98% of pixels right: an edge or a small region wrong);
+    nothing below. Tiers, not a slope: most of a picture is easy (a starter that draws
+    only the sky already has most pixels right), so a slope would pay for the sky."""
     if fraction >= 0.995 and mean_error < 0.5:
         return 1.0
-    return float(np.clip((fraction - 0.5) / 0.495, 0.0, 1.0)) * 0.9
+    if fraction >= 0.98:
+        return 0.5
+    return 0.0
 
 
 def write_heatmap(image: np.ndarray, reference: np.ndarray, path: Path):

@@ -25,6 +25,12 @@ class GradeTest:
         return re.sub(r"[^a-z0-9]+", "_", self.name.lower()).strip("_")
 
 
+SMALL = ["--width", "96", "--height", "72"]
+ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
+# Chapter 04's three front spheres in front of the big one, close up with a long lens:
+# where the nearest hit matters, filling the frame.
+OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
+
 SPECS: dict[str, list[GradeTest]] = {
     "01": [
         GradeTest("sums of 1000 floats", 3, ["--count", "1000"], "check", expect="all correct"),
@@ -41,5 +47,31 @@ SPECS: dict[str, list[GradeTest]] = {
                                                "--dispatch", "2d"]),
         GradeTest("odd size, 1D dispatch", 3, ["--width", "203", "--height", "157",
                                                 "--dispatch", "1d"], visibility="after_due_date"),
+    ],
+    "03": [
+        GradeTest("default camera", 4, SMALL),
+        GradeTest("moved and tilted camera", 3, [*SMALL, "--camera-eye", "1.5,2,3",
+                                                 "--camera-look", "-0.4,-0.5,-1",
+                                                 "--camera-up", "0.2,1,0"]),
+        GradeTest("wide lens, odd size", 3, [*ODD, "--focal-length", "0.02"],
+                  visibility="after_due_date"),
+    ],
+    "04": [
+        GradeTest("one sphere", 3, [*SMALL, "--scene", "single"]),
+        GradeTest("four spheres", 3, SMALL),
+        GradeTest("overlapping spheres, close up", 2, [*SMALL, *OVERLAP_CLOSE_UP]),
+        GradeTest("four spheres, odd size", 2, ODD, visibility="after_due_date"),
+    ],
+    "05": [
+        GradeTest("one sphere, lit", 3, [*SMALL, "--scene", "single"]),
+        GradeTest("spheres with shadows", 4, SMALL),
+        GradeTest("low camera, shadows on the floor", 3,
+                  [*ODD, "--camera-eye", "0.1,1.1,4"], visibility="after_due_date"),
+    ],
+    "06": [
+        GradeTest("pyramid", 4, [*SMALL, "--scene", "pyramid"]),
+        GradeTest("spheres on a triangle floor", 3, SMALL),
+        GradeTest("pyramid, odd size", 3, [*ODD, "--scene", "pyramid"],
+                  visibility="after_due_date"),
     ],
 }

@@ -6,10 +6,9 @@ import shlex
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
-from conftest import ROOT, read_image, srgb_encode_8bit
+from conftest import ROOT, assert_images_agree, read_image
 
 sys.path.insert(0, str(ROOT / "tools"))
 import classroom  # noqa: E402
@@ -98,8 +97,9 @@ def test_starter_builds_runs_and_is_wrong(tmp_path, chapter):
     solution = tmp_path / "solution.png"
     subprocess.run([str(BUILD / "bin" / chapter), "--headless", "--width", "64", "--height",
                     "48", "--out", str(solution)], check=True, capture_output=True)
-    difference = np.abs(read_image(out) - read_image(solution))
-    assert np.mean(difference > 2) > 0.5, "the starter should not draw the right picture"
+    # The starter's picture must fail the course's image check against the solution.
+    with pytest.raises(AssertionError):
+        assert_images_agree(read_image(out), read_image(solution), label=chapter)
 
 
 def test_release_verb_writes_a_starter(tmp_path):

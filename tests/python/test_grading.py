@@ -39,7 +39,11 @@ def total(results):
     return sum(t["max_score"] for t in results["tests"])
 
 
-@pytest.mark.parametrize("chapter", ["01_buffer_add", "02_first_pixels"])
+GRADED = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.name[:2] in
+                __import__("grading_specs").SPECS)
+
+
+@pytest.mark.parametrize("chapter", GRADED)
 def test_solution_full_marks_and_starter_near_zero(tmp_path, chapter):
     results, _ = grade(chapter, solution_copy(chapter, tmp_path / "solution"), tmp_path / "g1")
     assert results["score"] == total(results)
@@ -70,6 +74,21 @@ def test_planted_bug_loses_exactly_the_1d_tests(tmp_path):
     assert tests["pattern, 2D dispatch"]["score"] == tests["pattern, 2D dispatch"]["max_score"]
     assert tests["pattern, 1D dispatch"]["score"] == 0
     assert tests["odd size, 1D dispatch"]["score"] == 0
+
+
+def test_nearest_hit_bug_loses_exactly_the_overlap_tests(tmp_path):
+    """Chapter 04 with the classic bug (the first sphere hit wins): a single sphere and
+    the distant view are still (almost) right; the close-up of the overlap is not."""
+    submission = solution_copy("04_spheres", tmp_path / "buggy")
+    scene = submission / "shaders" / "04_spheres" / "scene.glsl"
+    text = scene.read_text()
+    assert "if (firstHitOnly) break;" in text
+    scene.write_text(text.replace("if (firstHitOnly) break;", "break;"))
+    results, tests = grade("04", submission, tmp_path / "g")
+    assert tests["one sphere"]["score"] == tests["one sphere"]["max_score"]
+    assert tests["overlapping spheres, close up"]["score"] == 0
+    # From afar the overlap covers about 1.4% of the picture: a near miss, half marks.
+    assert tests["four spheres"]["score"] == tests["four spheres"]["max_score"] / 2
 
 
 def break_main(submission, chapter, code):
