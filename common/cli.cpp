@@ -83,10 +83,11 @@ std::string CommandLine::usage() const {
     std::ostringstream out;
     out << "usage: " << program_ << " [options]\n" << summary_ << "\n\n"
         << "  --headless | --window   render off-screen (default without a display)\n"
-        << "                          or show the image in a window\n"
-        << "  --out FILE              write the image: .png (8-bit sRGB) or .pfm (float)\n"
-        << "  --width N, --height N   image size in pixels (1.." << kMaxImageSide << ")\n"
-        << "  --spp N                 samples per pixel\n"
+        << "                          or show the image in a window\n";
+    if (makesImage_)
+        out << "  --out FILE              write the image: .png (8-bit sRGB) or .pfm (float)\n"
+            << "  --width N, --height N   image size in pixels (1.." << kMaxImageSide << ")\n";
+    out << "  --spp N                 samples per pixel\n"
         << "  --seed N                random seed\n";
     if (acceptScene_) out << "  --scene NAME|FILE       scene to render\n";
     if (acceptObj_) out << "  --obj FILE              render this OBJ mesh, framed automatically\n";

@@ -3,11 +3,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include <stb/stb_image_write.h>
 
@@ -84,23 +84,21 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
     fs::path target = fs::absolute(path);
     fs::path temporary = target;
     temporary += ".tmp" + std::to_string(getpid());
-    {
-        std::ofstream file(temporary, std::ios::binary);
-        file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-        file.flush();
-        if (!file) {
-            std::error_code ignored;
-            fs::remove(temporary, ignored);
-            fail(ExitCode::BadInput, "could not write " + temporary.string() + ": " +
-                                         std::strerror(errno));
-        }
-    }
-    std::error_code error;
-    fs::rename(temporary, target, error);
-    if (error) {
-        fs::remove(temporary, error);
-        fail(ExitCode::BadInput, "could not rename the image to " + target.string());
-    }
+    // An output we cannot write is a usage problem (exit 2): a read-only or full disk,
+    // a path the user chose. The message says which folder and why.
+    auto cannotWrite = [&](const char* step) {
+        std::string reason = std::strerror(errno);
+        std::error_code ignored;
+        fs::remove(temporary, ignored);
+        fail(ExitCode::BadUsage, "cannot write the image " + target.string() + " (" + step +
+                                     " failed: " + reason + ")");
+    };
+    std::FILE* file = std::fopen(temporary.c_str(), "wb");
+    if (!file) cannotWrite("creating a temporary file");
+    bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+    written = (std::fflush(file) == 0) && written;
+    if (std::fclose(file) != 0 || !written) cannotWrite("writing");
+    if (std::rename(temporary.c_str(), target.c_str()) != 0) cannotWrite("renaming");
 }
 
 void writeImage(const std::string& path, const Image& image) {

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "course/display.h"
@@ -39,13 +40,38 @@ ShaderProgram& Session::loadCompute(const std::string& fileName) {
     return programs_.back();
 }
 
+// Waits until the GPU has finished everything queued so far, but not forever: on a GPU a
+// shader that never leaves its loop would hang the program (llvmpipe cuts such loops
+// off itself). COURSE_GPU_TIMEOUT_SECONDS overrides the limit.
+void waitForGpu() {
+    const char* setting = std::getenv("COURSE_GPU_TIMEOUT_SECONDS");
+    const double limit = setting ? std::atof(setting) : 600.0;
+    GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    auto start = std::chrono::steady_clock::now();
+    for (;;) {
+        GLenum state = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000);
+        if (state == GL_ALREADY_SIGNALED || state == GL_CONDITION_SATISFIED) break;
+        std::chrono::duration<double> waited = std::chrono::steady_clock::now() - start;
+        if (state == GL_WAIT_FAILED || waited.count() > limit) {
+            std::fprintf(stderr,
+                         "error: the GPU did not finish within %.0f s: a shader probably "
+                         "loops forever (check its loop conditions)\n",
+                         limit);
+            // Not a normal return: tearing down a context whose GPU work is still
+            // running can block forever too. Nothing has been written yet.
+            std::_Exit(static_cast<int>(ExitCode::GlProblem));
+        }
+    }
+    glDeleteSync(fence);
+}
+
 void Session::timeRender(const std::function<void()>& render) {
     GpuTimer timer;
     auto start = std::chrono::steady_clock::now();
     timer.begin();
     render();
     timer.end();
-    glFinish();  // wall time must include the GPU's work, not just queuing it
+    waitForGpu();  // wall time must include the GPU's work, not just queuing it
     std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
     stats_.set("wall_ms", wall.count());
     stats_.set("gpu_ms", timer.milliseconds());

@@ -17,7 +17,7 @@ struct Image {
 float linearToSrgb(float linear);  // the sRGB transfer function, input clamped to [0,1]
 
 // Writes .png or .pfm by the file's extension; throws Failure(BadUsage) for other
-// extensions and Failure(BadInput) when the file cannot be written.
+// extensions and when the file cannot be written (read-only folder, full disk).
 void writeImage(const std::string& path, const Image& image);
 
 // Checks before any rendering that `path` has a known extension and a writable folder,

@@ -62,6 +62,10 @@ private:
     Stats stats_;
 };
 
+// Blocks until the GPU has finished all queued work; ends the program with exit code 4
+// and a message if that takes longer than COURSE_GPU_TIMEOUT_SECONDS (default 600).
+void waitForGpu();
+
 // Parses the command line, makes the session, runs `body`, and turns every Failure
 // into its message and exit code. --json prints the statistics at the end.
 int runChapter(CommandLine& cli, int argc, char** argv, const ChapterPaths& chapter,

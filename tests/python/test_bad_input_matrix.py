@@ -1,0 +1,146 @@
+"""One table of bad inputs, run against every chapter program that accepts them: each
+row asserts the exit code, that the message names the culprit, and that no output file
+(not even a partial or temporary one) is left behind. Rows apply to a chapter when its
+--help lists the option they need, so new chapters are covered automatically."""
+
+from __future__ import annotations
+
+import os
+import stat
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from conftest import BIN, copy_shaders, run_chapter
+
+CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit())
+
+
+def help_text(chapter: str) -> str:
+    return run_chapter(chapter, "--help").stdout
+
+
+HELP = {chapter: help_text(chapter) for chapter in CHAPTERS}
+
+
+@dataclass
+class Row:
+    name: str
+    needs: str            # an option the chapter's --help must list ("" for all)
+    args: list            # may contain {tmp}, {file:NAME} placeholders
+    code: int
+    culprit: str          # a text the message must contain ({tmp} allowed)
+
+
+def make_inputs(tmp: Path) -> dict[str, Path]:
+    inputs = tmp / "inputs"
+    inputs.mkdir()
+    (inputs / "empty.obj").write_bytes(b"")
+    (inputs / "binary.obj").write_bytes(bytes(range(256)) * 4)
+    (inputs / "folder.obj").mkdir()
+    unreadable = inputs / "unreadable.obj"
+    unreadable.write_text("v 0 0 0\n")
+    unreadable.chmod(0)
+    return {p.name: p for p in inputs.iterdir()}
+
+
+ROWS = [
+    Row("huge width", "--width", ["--width", "100000"], 2, "--width"),
+    Row("zero spp", "--spp", ["--spp", "0"], 2, "--spp"),
+    Row("negative spp", "--spp", ["--spp", "-4"], 2, "--spp"),
+    Row("out in a missing folder", "--out", ["--out", "{tmp}/missing/x.png"], 2,
+        "{tmp}/missing"),
+    Row("out in a read-only file system", "--out", ["--out", "/proc/x.png"], 2, "/proc/x.png"),
+    Row("out is a folder", "--out", ["--out", "{tmp}"], 2, "{tmp}"),
+    Row("unknown scene", "--scene", ["--scene", "no_such_scene"], 2, "no_such_scene"),
+    Row("NaN camera", "--camera-eye", ["--camera-eye", "nan,0,0"], 2, "--camera-eye"),
+    Row("missing OBJ", "--obj", ["--obj", "{tmp}/nope.obj"], 3, "{tmp}/nope.obj"),
+    Row("empty OBJ", "--obj", ["--obj", "{file:empty.obj}"], 3, "empty.obj"),
+    Row("binary OBJ", "--obj", ["--obj", "{file:binary.obj}"], 3, "binary.obj:1"),
+    Row("folder as OBJ", "--obj", ["--obj", "{file:folder.obj}"], 3, "folder.obj"),
+]
+if os.geteuid() != 0:  # root reads anything: the row only means something for users
+    ROWS.append(Row("unreadable OBJ", "--obj", ["--obj", "{file:unreadable.obj}"], 3,
+                    "unreadable.obj"))
+
+CASES = [(chapter, row) for chapter in CHAPTERS for row in ROWS
+         if not row.needs or row.needs in HELP[chapter]]
+
+
+@pytest.mark.parametrize("chapter,row", CASES, ids=[f"{c}-{r.name}" for c, r in CASES])
+def test_bad_input(tmp_path, chapter, row):
+    files = make_inputs(tmp_path)
+    work = tmp_path / "work"
+    work.mkdir()
+
+    def expand(text: str) -> str:
+        text = text.replace("{tmp}", str(work))
+        if text.startswith("{file:"):
+            text = str(files[text[6:-1]])
+        return text
+
+    result = run_chapter(chapter, "--headless", *map(expand, row.args), cwd=work)
+    assert result.returncode == row.code, result.stderr
+    assert expand(row.culprit) in result.stderr, result.stderr
+    assert list(work.iterdir()) == [], "nothing may be written"
+
+
+@pytest.mark.parametrize("chapter", [c for c in CHAPTERS if c != "01"])
+def test_existing_output_is_never_truncated_by_a_failure(tmp_path, chapter):
+    out = tmp_path / "keep.png"
+    out.write_bytes(b"precious")
+    result = run_chapter(chapter, "--headless", "--out", out, "--spp", "0")
+    assert result.returncode == 2
+    result = run_chapter(chapter, "--headless", "--out", out, "--shader-dir", tmp_path)
+    assert result.returncode == 4
+    assert out.read_bytes() == b"precious"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.png"]
+
+
+def main_shader(chapter: str, shaders: Path) -> Path:
+    """The compute shader with main() that the chapter runs by default."""
+    candidates = [p for p in sorted(shaders.glob("*.comp")) if "void main()" in p.read_text()]
+    return candidates[0]
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_shader_compile_error_names_file_and_line(tmp_path, chapter):
+    shaders = copy_shaders(chapter, tmp_path)
+    shader = main_shader(chapter, shaders)
+    lines = shader.read_text().splitlines()
+    number = next(i for i, line in enumerate(lines) if "void main()" in line) + 2
+    lines.insert(number - 1, "    this is not glsl;")
+    shader.write_text("\n".join(lines) + "\n")
+    work = tmp_path / "work"
+    work.mkdir()
+    args = ["--count", "10"] if chapter == "01" else ["--out", work / "x.png"]
+    result = run_chapter(chapter, "--headless", "--shader-dir", shaders, *args, cwd=work)
+    assert result.returncode == 4, result.stderr
+    assert f"shaders/{shaders.name}/{shader.name}:{number}:" in result.stderr
+    assert list(work.iterdir()) == []
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_a_shader_that_loops_forever_ends_in_time(tmp_path, chapter):
+    """llvmpipe cuts an endless loop off after 65535 iterations; on a GPU the course's
+    fence watchdog (COURSE_GPU_TIMEOUT_SECONDS) ends the program with exit code 4.
+    Either way the run must end, quickly and without a half-written file."""
+    shaders = copy_shaders(chapter, tmp_path)
+    shader = main_shader(chapter, shaders)
+    text = shader.read_text()
+    shader.write_text(text.replace("void main() {", "void main() {\n    while (true) {}", 1))
+    work = tmp_path / "work"
+    work.mkdir()
+    args = ["--count", "10"] if chapter == "01" else ["--width", "32", "--height", "24",
+                                                     "--out", work / "x.png"]
+    started = time.monotonic()
+    result = run_chapter(chapter, "--headless", "--shader-dir", shaders, *args, cwd=work,
+                         env={"COURSE_GPU_TIMEOUT_SECONDS": "60"}, timeout=120)
+    assert time.monotonic() - started < 90
+    assert result.returncode in (0, 1, 4), result.stderr
+    if result.returncode == 4:
+        assert "did not finish" in result.stderr
+    leftovers = [p.name for p in work.iterdir() if ".tmp" in p.name]
+    assert leftovers == []
