@@ -126,3 +126,12 @@ def copy_shaders(prefix: str, destination: Path) -> Path:
 
 def xvfb_available() -> bool:
     return shutil.which("xvfb-run") is not None
+
+
+@pytest.fixture(scope="session")
+def built_book():
+    """Builds the book once per test run: figures rendered, mkdocs --strict."""
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "book"],
+                            capture_output=True, text=True, timeout=900, cwd=ROOT)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return ROOT / "book" / "site"
