@@ -17,7 +17,9 @@ public:
     explicit GlfwContext(GLFWwindow* window) : window_(window) {}
     ~GlfwContext() override {
         glfwDestroyWindow(window_);
-        glfwTerminate();
+#ifndef COURSE_SANITIZE_BUILD
+        glfwTerminate();  // sanitizer builds keep the GL driver loaded: see egl_context.cpp
+#endif
     }
     std::string backendName() const override { return "glfw"; }
     GLFWwindow* window() override { return window_; }

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import difflib
 import fcntl
+import json
 import os
 import re
 import shutil
@@ -137,7 +138,25 @@ def cmd_run(args):
         print(out)
 
 
+SANITIZED = BUILD / "sanitize"
+FUZZ_BUILD = BUILD / "fuzz"
+FUZZ_REGRESSIONS = ROOT / "tests" / "data" / "fuzz_regressions"
+
+
+def sanitizer_environment() -> dict:
+    """ASan/UBSan settings: any error ends the program with a report; leaks from the
+    GL driver (Mesa, LLVM) are not ours and are suppressed by name."""
+    suppressions = ROOT / "tests" / "sanitizers" / "lsan.supp"
+    return dict(os.environ,
+                COURSE_BIN_DIR=str(SANITIZED / "bin"),
+                ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:abort_on_error=0",
+                LSAN_OPTIONS=f"suppressions={suppressions}:print_suppressions=0",
+                UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1")
+
+
 def cmd_test(args):
+    if args.sanitize:
+        return test_sanitized(args)
     build()
     started = time.time()
     passed = failed = 0
@@ -154,7 +173,7 @@ def cmd_test(args):
             failed += 1
     say("image checks and chapter tests (pytest)")
     pytest = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python"), "-q",
-              "-p", "no:cacheprovider", "-rfE"]
+              "-p", "no:cacheprovider", "-rfEs"]
     if args.chapter:
         pytest += ["-m", f"chapter{find_chapter(args.chapter)[:2]}"]
     if args.k:
@@ -173,6 +192,91 @@ def cmd_test(args):
     # A skipped check is not a passed one: it counts as a failure here.
     print(f"{passed} passed, {failed + skipped} failed")
     sys.exit(0 if failed + skipped == 0 else 1)
+
+
+def test_sanitized(args):
+    """Every chapter, the common layer and the parsers built with ASan + UBSan; the C++
+    units and a headless run of every chapter (its image checks) under them."""
+    with build_lock():
+        configure(build_dir=SANITIZED, extra=["-DCOURSE_SANITIZE=ON"])
+        say("building with AddressSanitizer and UndefinedBehaviorSanitizer")
+        run_checked(["cmake", "--build", str(SANITIZED)], stdout=sys.stderr)
+    environment = sanitizer_environment()
+    ctest = subprocess.run(["ctest", "--test-dir", str(SANITIZED), "--output-on-failure"],
+                           env=environment)
+    chapter_checks = sorted(str(p) for p in (ROOT / "tests" / "python").glob("test_*.py")
+                            if re.match(r"test_\d\d_", p.name)
+                            or p.name in ("test_command_line.py", "test_bad_input_matrix.py"))
+    pytest = subprocess.run([sys.executable, "-m", "pytest", *chapter_checks, "-q",
+                             "-p", "no:cacheprovider", "-rfEs", "-x"], env=environment)
+    sys.exit(0 if ctest.returncode == 0 and pytest.returncode == 0 else 1)
+
+
+def fuzz_seeds(target: str) -> list[Path]:
+    if target == "fuzz_shader_include":
+        return sorted(ROOT.glob("shaders/*/*.comp")) + sorted(ROOT.glob("shaders/*/*.glsl"))
+    if target == "fuzz_obj_loader":
+        return sorted((ROOT / "tests" / "data" / "obj").rglob("*.obj"))
+    if target == "fuzz_scene_file":
+        return sorted((ROOT / "assets" / "scenes").glob("*.scene"))
+    return []
+
+
+def cmd_fuzz(args):
+    """Runs each libFuzzer target for a bounded time from a seed corpus; replays every
+    kept crash first; a new crash is copied into tests/data/fuzz_regressions/."""
+    if not shutil.which("clang++"):
+        die("fuzzing needs clang (apt install clang)", code=2)
+    with build_lock():
+        environment = dict(os.environ, CC="clang", CXX="clang++")
+        if not (FUZZ_BUILD / "build.ninja").exists():
+            run_checked(["cmake", "-S", str(ROOT), "-B", str(FUZZ_BUILD), "-G", "Ninja",
+                         "-DCOURSE_FUZZ=ON", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"],
+                        env=environment, stdout=sys.stderr)
+        run_checked(["cmake", "--build", str(FUZZ_BUILD)], stdout=sys.stderr)
+    targets = sorted(p.name for p in (FUZZ_BUILD / "fuzz").iterdir() if p.is_file())
+    if args.target:
+        targets = [t for t in targets if args.target in t]
+        if not targets:
+            die(f"no fuzz target matching '{args.target}'", code=2)
+    summary, failed = {}, False
+    for target in targets:
+        program = FUZZ_BUILD / "fuzz" / target
+        kept = sorted((FUZZ_REGRESSIONS / target).glob("*")) if (FUZZ_REGRESSIONS / target).exists() else []
+        if kept:
+            say(f"{target}: replaying {len(kept)} kept crash inputs")
+            replay = subprocess.run([str(program), *map(str, kept)], capture_output=True, text=True)
+            if replay.returncode != 0:
+                print(replay.stderr[-3000:])
+                failed = True
+        corpus = FUZZ_BUILD / "corpus" / target
+        crashes = FUZZ_BUILD / "crashes" / target
+        for folder in (corpus, crashes):
+            folder.mkdir(parents=True, exist_ok=True)
+        for seed in fuzz_seeds(target):
+            shutil.copyfile(seed, corpus / f"seed_{seed.parent.name}_{seed.name}")
+        say(f"{target}: fuzzing for {args.seconds} s")
+        result = subprocess.run(
+            [str(program), str(corpus), f"-max_total_time={args.seconds}", "-timeout=10",
+             "-rss_limit_mb=2048", "-print_final_stats=1", f"-artifact_prefix={crashes}/"],
+            capture_output=True, text=True)
+        executions = re.search(r"stat::number_of_executed_units:\s*(\d+)", result.stderr)
+        found = sorted(crashes.iterdir())
+        for crash in found:
+            keep = FUZZ_REGRESSIONS / target / crash.name
+            keep.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(crash, keep)
+        summary[target] = {"seconds": args.seconds,
+                           "executions": int(executions.group(1)) if executions else 0,
+                           "crashes": len(found)}
+        if found or result.returncode != 0:
+            failed = True
+            print(result.stderr[-3000:])
+        print(f"{target:24} {summary[target]['executions']:>10} runs in {args.seconds} s, "
+              f"{len(found)} crashes")
+    (FUZZ_BUILD / "summary.json").write_text(json.dumps(summary, indent=2))
+    if failed:
+        die("fuzzing found a crash: the input is kept in tests/data/fuzz_regressions/")
 
 
 def checkpoint_files(name: str) -> dict[str, Path]:
@@ -311,6 +415,12 @@ def main():
     test = verbs.add_parser("test", help="build everything and run every check")
     test.add_argument("chapter", nargs="?", help="only this chapter's checks")
     test.add_argument("-k", help="only pytest checks matching this expression")
+    test.add_argument("--sanitize", action="store_true",
+                      help="build with ASan + UBSan and run the units and chapter checks")
+
+    fuzz = verbs.add_parser("fuzz", help="run the libFuzzer targets (OBJ, scene, #include)")
+    fuzz.add_argument("target", nargs="?", help="only targets whose name contains this")
+    fuzz.add_argument("--seconds", type=int, default=60, help="per target (default 60)")
 
     diff = verbs.add_parser("diff", help="what checkpoint B adds to checkpoint A")
     diff.add_argument("a")

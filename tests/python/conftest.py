@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-BIN = ROOT / "build" / "bin"
+# COURSE_BIN_DIR: another build of the chapters (./course test --sanitize uses it).
+BIN = Path(os.environ.get("COURSE_BIN_DIR", ROOT / "build" / "bin"))
 sys.path.insert(0, str(ROOT / "python_prototypes"))
 
 BACKENDS = ["egl", "osmesa"]
