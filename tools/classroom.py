@@ -150,6 +150,11 @@ def release(root: Path, chapter: str, out: Path) -> Path:
         copy(relative)
     if (root / "assets" / "data").exists():
         copy("assets/data")  # small source data (the teapot patches) the build may use
+    for generator in ("python_prototypes/teapot.py", "python_prototypes/gems.py"):
+        if (root / generator).exists():
+            copy(generator)  # cmake/Assets.cmake runs them at build time
+    if int(number) >= 7:
+        copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
     for test in tests:
         copy(str(test.relative_to(root)))

@@ -1,0 +1,53 @@
+# Meshes made at build time into ${COURSE_GENERATED_ASSET_DIR}/meshes (never committed):
+# Newell teapots tessellated by python_prototypes/teapot.py from the patch file.
+#   course_assets            built by default: the meshes the chapters, book and tests use
+#   course_benchmark_assets  big teapots (100k, 1M triangles), only when asked for:
+#                            cmake --build build --target course_benchmark_assets
+# Needs Python3_EXECUTABLE (found by Glad.cmake) with numpy.
+
+# The patch data ships with the repository (public domain), next to the other assets.
+set(COURSE_TEAPOT_PATCHES "${CMAKE_SOURCE_DIR}/assets/data/newell_teapot.txt")
+if(NOT EXISTS "${COURSE_TEAPOT_PATCHES}")
+  message(FATAL_ERROR "The teapot patch file is missing: ${COURSE_TEAPOT_PATCHES}\n"
+    "The generated meshes are tessellated from it; restore it with git checkout.")
+endif()
+
+execute_process(COMMAND ${Python3_EXECUTABLE} -c "import numpy"
+  RESULT_VARIABLE _course_numpy_missing OUTPUT_QUIET ERROR_QUIET)
+if(_course_numpy_missing)
+  message(FATAL_ERROR "${Python3_EXECUTABLE} has no numpy, which teapot.py needs.\n"
+    "Run ./course setup, or configure with -DPython3_EXECUTABLE=<a Python with numpy>.")
+endif()
+
+set(COURSE_GENERATED_ASSET_DIR "${CMAKE_BINARY_DIR}/assets")
+set(_course_teapot_script "${CMAKE_SOURCE_DIR}/python_prototypes/teapot.py")
+
+# course_teapot(<name> <segments> [teapot.py options...]): a rule that writes
+# meshes/<name>.obj, appended to the list COURSE_TEAPOT_FILES. The file is written under
+# a temporary name and renamed, so a stopped build never leaves half a mesh behind.
+function(course_teapot name segments)
+  set(output "${COURSE_GENERATED_ASSET_DIR}/meshes/${name}.obj")
+  add_custom_command(
+    OUTPUT "${output}"
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${COURSE_GENERATED_ASSET_DIR}/meshes"
+    COMMAND ${Python3_EXECUTABLE} "${_course_teapot_script}" --segments ${segments}
+            ${ARGN} --patches "${COURSE_TEAPOT_PATCHES}" --out "${output}.partial"
+    COMMAND ${CMAKE_COMMAND} -E rename "${output}.partial" "${output}"
+    DEPENDS "${_course_teapot_script}" "${COURSE_TEAPOT_PATCHES}"
+    COMMENT "Tessellating the teapot: meshes/${name}.obj"
+    VERBATIM)
+  set(COURSE_TEAPOT_FILES ${COURSE_TEAPOT_FILES} "${output}" PARENT_SCOPE)
+endfunction()
+
+# 552 triangles: the book's flat versus smooth shading comparison (chapters 07, 08).
+set(COURSE_TEAPOT_FILES "")
+course_teapot(teapot_552 3)
+course_teapot(teapot_552_no_normals 3 --no-normals)
+course_teapot(teapot_6320 10)
+add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES})
+
+set(COURSE_TEAPOT_FILES "")
+course_teapot(teapot_102080 40)
+course_teapot(teapot_1015056 126)
+add_custom_target(course_benchmark_assets DEPENDS ${COURSE_TEAPOT_FILES})
+unset(COURSE_TEAPOT_FILES)
