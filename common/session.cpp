@@ -93,10 +93,13 @@ static Image downloadImage(const ImageBuffer& image) {
     return pixels;
 }
 
-void Session::finish(const ImageBuffer& image, const std::function<void()>& render) {
+void Session::finish(const ImageBuffer& image, const std::function<void()>& render,
+                     const std::function<void(int frame)>& eachFrame) {
     if (GLFWwindow* window = context_->window()) {
         ImageDisplay display;
         auto lastCheck = std::chrono::steady_clock::now();
+        bool screenshotKeyWasDown = false;
+        int screenshots = 0;
         for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
             if (options_.frames && frame >= options_.frames) break;
             glfwPollEvents();
@@ -107,6 +110,16 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
                 lastCheck = now;
                 if (reloadChangedShaders()) render();
             }
+            if (eachFrame) eachFrame(frame);
+            // F12: the image as it is now, as a PNG in the working folder.
+            bool screenshotKeyDown = glfwGetKey(window, GLFW_KEY_F12) == GLFW_PRESS;
+            if (screenshotKeyDown && !screenshotKeyWasDown) {
+                std::string path = chapter_.name + "_screenshot_" +
+                                   std::to_string(++screenshots) + ".png";
+                writeImage(path, downloadImage(image));
+                std::printf("saved %s\n", fs::absolute(path).c_str());
+            }
+            screenshotKeyWasDown = screenshotKeyDown;
             int width = 0, height = 0;
             glfwGetFramebufferSize(window, &width, &height);
             if (width > 0 && height > 0) display.draw(image, width, height);

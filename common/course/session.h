@@ -48,8 +48,11 @@ public:
 
     // The end of a render. Headless: writes the image to --out (default
     // <chapter>.png) and prints its path. Window: shows it until Esc, the close button
-    // or --frames; after a shader is hot-reloaded, calls `render` again.
-    void finish(const ImageBuffer& image, const std::function<void()>& render = {});
+    // or --frames; after a shader is hot-reloaded, calls `render` again (which should
+    // start the picture over), and before drawing each frame calls `eachFrame` (a
+    // progressive renderer adds samples there). F12 saves a screenshot as a PNG.
+    void finish(const ImageBuffer& image, const std::function<void()>& render = {},
+                const std::function<void(int frame)>& eachFrame = {});
 
 private:
     bool reloadChangedShaders();
