@@ -3,6 +3,7 @@
 // crash, hang or slowness on garbage.
 #include <gtest/gtest.h>
 #include <tiny_obj_loader.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -380,14 +381,29 @@ TEST(ObjLoaderFile, DeviceIsNotAFile) {
 }
 
 TEST_F(ObjScratch, UnreadableFile) {
-    if (::geteuid() == 0)
-        GTEST_SKIP() << "root reads any file, so permissions cannot make one unreadable";
     const fs::path path = write("locked.obj", "v 0 0 0\n");
     fs::permissions(path, fs::perms::none);
-    const std::string message = loadFailure(path);
-    EXPECT_NE(message.find(shownPath(path) + ": cannot open (Permission denied)"),
-              std::string::npos)
-        << message;
+    auto check = [&] {
+        const std::string message = loadFailure(path);
+        return message.find(shownPath(path) + ": cannot open (Permission denied)") !=
+               std::string::npos;
+    };
+    if (::geteuid() != 0) {
+        EXPECT_TRUE(check());
+        return;
+    }
+    // Root reads any file, so the check runs in a child that has given up root and
+    // become `nobody` (65534), as a learner's account would be.
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        bool dropped = ::setgid(65534) == 0 && ::setuid(65534) == 0;
+        ::_exit(dropped && check() ? 0 : 1);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << "as nobody, loading an unreadable file must fail with Permission denied";
 }
 
 // ---------------------------------------------------------------------------------------
@@ -486,15 +502,5 @@ TEST(ObjLoaderTeapot, CountsAndNormals) {
     EXPECT_EQ(loadObj((kMeshes / "teapot_6320.obj").string()).triangleCount(), 6320u);
 }
 
-TEST(ObjLoaderTeapot, AMillionTrianglesLoadInSeconds) {
-    const fs::path path = kMeshes / "teapot_1015056.obj";
-    if (!fs::exists(path))
-        GTEST_SKIP() << path << " is not built: cmake --build build --target "
-                     << "course_benchmark_assets";
-    const auto started = std::chrono::steady_clock::now();
-    const Mesh mesh = loadObj(path.string());
-    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - started;
-    std::cout << mesh.triangleCount() << " triangles loaded in " << took.count() << " s\n";
-    EXPECT_EQ(mesh.triangleCount(), 1015056u);
-    EXPECT_LT(took.count(), 5.0);
-}
+// How long a million triangles take to load is measured by ./course bench, not here:
+// timed tests fail on a busy machine and prove nothing on a fast one.
