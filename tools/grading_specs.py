@@ -74,4 +74,27 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("pyramid, odd size", 3, [*ODD, "--scene", "pyramid"],
                   visibility="after_due_date"),
     ],
+    "07": [
+        GradeTest("teapot, flat shaded", 4, SMALL),
+        GradeTest("teapot, wider picture", 3, ["--width", "128", "--height", "64"]),
+        GradeTest("teapot, odd size", 3, ODD, visibility="after_due_date"),
+    ],
+    "08": [
+        GradeTest("smooth teapot", 4, SMALL),
+        GradeTest("smooth teapot, wider picture", 3, ["--width", "128", "--height", "64"]),
+        GradeTest("smooth teapot, odd size", 3, ODD, visibility="after_due_date"),
+    ],
+    # Chapter 09 draws random numbers: every run uses a fixed --seed, so the solution's
+    # picture is reproduced bit for bit, and few samples keep the runs short.
+    "09": [
+        GradeTest("first random numbers, hashed seeding", 3,
+                  [*SMALL, "--view", "noise", "--seed", "3"]),
+        GradeTest("first random numbers, naive seeding", 2,
+                  [*SMALL, "--view", "noise", "--seeding", "naive", "--seed", "3"]),
+        GradeTest("anti-aliased teapot, 4 samples", 3,
+                  ["--width", "64", "--height", "48", "--spp", "4", "--seed", "5"]),
+        GradeTest("ambient occlusion, 2 samples", 2,
+                  ["--width", "64", "--height", "48", "--view", "ao", "--spp", "2",
+                   "--seed", "7"], visibility="after_due_date"),
+    ],
 }
