@@ -78,6 +78,16 @@ void checkOutputPath(const std::string& path) {
     if (access(folder.c_str(), W_OK) != 0)
         fail(ExitCode::BadUsage, "--out " + path + ": folder " + folder.string() +
                                      " is not writable");
+    // access() says yes to root even on a read-only file system: try for real, with the
+    // temporary name the image will be written under, before any rendering.
+    fs::path probe = fs::absolute(path);
+    probe += ".tmp" + std::to_string(getpid());
+    std::FILE* file = std::fopen(probe.c_str(), "wb");
+    if (!file)
+        fail(ExitCode::BadUsage, "--out " + path + ": cannot write in " + folder.string() +
+                                     " (" + std::strerror(errno) + ")");
+    std::fclose(file);
+    std::remove(probe.c_str());
 }
 
 void writeFileAtomically(const std::string& path, const std::string& bytes) {

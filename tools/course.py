@@ -329,7 +329,19 @@ def cmd_diff(args):
                 print(line)
 
 
-def render_book_figures():
+def draft_arguments(arguments: list[str]) -> list[str]:
+    """A quick version of a figure for checking the book builds: a quarter of the size
+    and at most 4 samples per pixel, from the same program and options."""
+    quick = list(arguments)
+    for i, argument in enumerate(quick[:-1]):
+        if argument in ("--width", "--height"):
+            quick[i + 1] = str(max(16, int(quick[i + 1]) // 4))
+        elif argument == "--spp":
+            quick[i + 1] = str(min(4, int(quick[i + 1])))
+    return quick
+
+
+def render_book_figures(draft: bool = False):
     """Every picture in the book comes from the real programs, listed in figures.tsv."""
     GENERATED.mkdir(parents=True, exist_ok=True)
     rows = [line.split("\t") for line in (BOOK / "figures.tsv").read_text().splitlines()
@@ -339,8 +351,9 @@ def render_book_figures():
         if program.startswith("python_prototypes/"):
             command = [sys.executable, str(ROOT / program), *arguments.split(), "--figure", str(out)]
         else:
+            options = arguments.split()
             command = [str(binary(find_chapter(program))), "--headless", "--out", str(out),
-                       *arguments.split()]
+                       *(draft_arguments(options) if draft else options)]
         say(f"figure {figure}")
         run_checked(command, cwd=ROOT, stdout=subprocess.DEVNULL)
     names = chapters()
@@ -351,7 +364,7 @@ def render_book_figures():
 
 def cmd_book(args):
     build()
-    render_book_figures()
+    render_book_figures(draft=args.draft)
     os.environ["NO_MKDOCS_2_WARNING"] = "1"  # Material 9.7+ advertises its successor
     mkdocs = [sys.executable, "-m", "mkdocs"]
     config = str(BOOK / "mkdocs.yml")
@@ -439,6 +452,8 @@ def main():
 
     book = verbs.add_parser("book", help="render the figures and build the book")
     book.add_argument("--serve", action="store_true", help="preview on localhost:8000")
+    book.add_argument("--draft", action="store_true",
+                      help="quick small figures (how ./course test checks the book builds)")
 
     bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box")
     bench.add_argument("--size", type=int, default=256, help="image side (default 256)")

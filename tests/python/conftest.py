@@ -131,8 +131,11 @@ def xvfb_available() -> bool:
 
 @pytest.fixture(scope="session")
 def built_book():
-    """Builds the book once per test run: figures rendered, mkdocs --strict."""
-    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "book"],
+    """Builds the book once per test run: every figure rendered by the real programs
+    (as drafts: smaller, fewer samples — the full figures are ./course book's job, and
+    the chapters' own checks test the pictures), then mkdocs --strict."""
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "book",
+                             "--draft"],
                             capture_output=True, text=True, timeout=900, cwd=ROOT)
     assert result.returncode == 0, result.stderr[-3000:]
     return ROOT / "book" / "site"
