@@ -44,7 +44,23 @@ set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_552 3)
 course_teapot(teapot_552_no_normals 3 --no-normals)
 course_teapot(teapot_6320 10)
-add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES})
+
+# The gems of chapter 10's cornell_gems.scene: python_prototypes/gems.py writes each one
+# under a temporary name and renames it, so a stopped build leaves no half mesh.
+set(_course_gems_script "${CMAKE_SOURCE_DIR}/python_prototypes/gems.py")
+set(_course_gem_files "")
+foreach(cut brilliant octahedron emerald)
+  list(APPEND _course_gem_files "${COURSE_GENERATED_ASSET_DIR}/meshes/gem_${cut}.obj")
+endforeach()
+add_custom_command(
+  OUTPUT ${_course_gem_files}
+  COMMAND ${CMAKE_COMMAND} -E make_directory "${COURSE_GENERATED_ASSET_DIR}/meshes"
+  COMMAND ${Python3_EXECUTABLE} "${_course_gems_script}"
+          --out "${COURSE_GENERATED_ASSET_DIR}/meshes"
+  DEPENDS "${_course_gems_script}"
+  COMMENT "Cutting the gems: meshes/gem_*.obj"
+  VERBATIM)
+add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files})
 
 set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_102080 40)

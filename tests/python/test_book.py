@@ -4,7 +4,7 @@ front door's read-only verbs work."""
 import subprocess
 import sys
 
-from conftest import ROOT
+from conftest import ROOT, read_image
 
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
 
@@ -16,7 +16,9 @@ def test_book_builds_strictly_with_real_figures(built_book):
                .splitlines() if line.strip() and not line.startswith("#")]
     for figure in figures:
         rendered = ROOT / "book" / "docs" / "generated" / figure
-        assert rendered.stat().st_size > 1000, figure
+        image = read_image(rendered)
+        assert image.shape[0] >= 16 and image.shape[1] >= 16, figure
+        assert image.std() > 0, f"{figure} is blank"
         assert (site / "generated" / figure).exists(), figure
     page = (site / "chapters" / "02_first_pixels" / "index.html").read_text()
     assert "patternColor" in page  # code pulled from the real shader

@@ -1,0 +1,388 @@
+"""A small, strict reader for the course's scene files (assets/scenes/*.scene), the
+Python twin of chapters/10_path_tracing/scene_file.cpp. The format is described there
+and in assets/scenes/README.md:
+
+    camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+    material NAME albedo R G B [emission R G B]
+    sphere CX CY CZ RADIUS MATERIAL [name NAME]
+    quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
+    triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
+    mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
+
+load_scene(path, mesh_folders) -> Scene. Any problem raises SceneError("file:line: ...");
+line 0 means the file as a whole.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import camera_rays  # noqa: E402
+
+CONTROL_BYTES = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")  # all but \t \n \r
+NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*\Z")
+FLOAT_MAX = float(np.finfo(np.float32).max)
+
+
+def absolute(path) -> Path:
+    """Absolute, without '.' or '..' (as the C++ reader shows paths)."""
+    return Path(os.path.abspath(path))
+
+
+class SceneError(ValueError):
+    """A problem in a scene file; the message starts with 'file:line: '."""
+
+
+@dataclass
+class SceneCamera:
+    eye: tuple
+    look: tuple
+    up: tuple
+    focal_length: float
+    sensor_width: float
+
+    def as_camera(self) -> camera_rays.Camera:
+        return camera_rays.Camera(self.eye, self.look, self.up, self.focal_length,
+                                  self.sensor_width)
+
+    def horizontal_fov_degrees(self) -> float:
+        """The angle the sensor's width spans seen from the eye."""
+        return math.degrees(2.0 * math.atan(self.sensor_width / (2.0 * self.focal_length)))
+
+
+@dataclass
+class Material:
+    name: str
+    albedo: tuple
+    emission: tuple = (0.0, 0.0, 0.0)
+
+    @property
+    def emits(self) -> bool:
+        return any(value > 0 for value in self.emission)
+
+
+@dataclass
+class Sphere:
+    center: tuple
+    radius: float
+    material: str
+    name: str = ""
+
+
+@dataclass
+class Quad:
+    origin: tuple
+    edge1: tuple
+    edge2: tuple
+    material: str
+    name: str = ""
+
+    def corners(self) -> np.ndarray:
+        o, e, f = (np.asarray(v, dtype=np.float64) for v in (self.origin, self.edge1,
+                                                             self.edge2))
+        return np.stack([o, o + e, o + e + f, o + f])
+
+    def normal(self) -> np.ndarray:
+        n = np.cross(self.edge1, self.edge2)
+        return n / np.linalg.norm(n)
+
+
+@dataclass
+class Triangle:
+    p0: tuple
+    p1: tuple
+    p2: tuple
+    material: str
+    name: str = ""
+
+
+@dataclass
+class Mesh:
+    path: Path  # absolute: where the file was found
+    written_path: str
+    material: str
+    scale: float = 1.0
+    rotation_y_degrees: float = 0.0
+    translation: tuple = (0.0, 0.0, 0.0)
+    name: str = ""
+    line: int = 0
+
+    def world_from_mesh(self) -> np.ndarray:
+        """4x4: scale, then turn about y (counter-clockwise seen from above), then move."""
+        angle = math.radians(self.rotation_y_degrees)
+        c, s = math.cos(angle), math.sin(angle)
+        matrix = np.eye(4)
+        matrix[:3, :3] = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]) * self.scale
+        matrix[:3, 3] = self.translation
+        return matrix
+
+
+@dataclass
+class Scene:
+    path: Path
+    camera: SceneCamera
+    materials: dict = field(default_factory=dict)  # name -> Material, in file order
+    spheres: list = field(default_factory=list)
+    quads: list = field(default_factory=list)
+    triangles: list = field(default_factory=list)
+    meshes: list = field(default_factory=list)
+
+    def shapes(self):
+        """(kind, index, shape) for every shape: spheres, quads, triangles, meshes."""
+        for kind, shapes in [("sphere", self.spheres), ("quad", self.quads),
+                             ("triangle", self.triangles), ("mesh", self.meshes)]:
+            for index, shape in enumerate(shapes):
+                yield kind, index, shape
+
+    def region_name(self, kind, index, shape) -> str:
+        """The shape's name, or kind_index for a shape without one."""
+        return shape.name or f"{kind}_{index}"
+
+    def emitters(self):
+        return [shape for _, _, shape in self.shapes() if self.materials[shape.material].emits]
+
+
+# ---------------------------------------------------------------------------------------
+# Parsing
+# ---------------------------------------------------------------------------------------
+
+def number(word: str) -> float:
+    try:
+        value = float(word)
+    except ValueError:
+        raise SceneError(f"'{word}' is not a number") from None
+    if not math.isfinite(value):
+        raise SceneError(f"'{word}' is not a finite number")
+    if abs(value) > FLOAT_MAX:
+        raise SceneError(f"'{word}' is too large for a float")
+    return value
+
+
+def vector(words, first: int) -> tuple:
+    return tuple(number(word) for word in words[first:first + 3])
+
+
+def expect_label(words, index, label, statement):
+    if words[index] != label:
+        raise SceneError(f"'{statement}' expects '{label}' here, got '{words[index]}'")
+
+
+def shape_name(word: str) -> str:
+    if not NAME.match(word):
+        raise SceneError(f"shape name '{word}': use letters, digits, '_' and '-', "
+                         "starting with a letter or '_'")
+    return word
+
+
+def shape_fields(keyword, words, count, fields):
+    """The first `count` fields, then an optional `name NAME`: (fields, name)."""
+    if len(words) == count + 2:
+        expect_label(words, count, "name", keyword)
+        return words[:count], shape_name(words[count + 1])
+    if len(words) != count:
+        raise SceneError(f"'{keyword}' needs {count} fields ({fields}), then optionally "
+                         f"name NAME; got {len(words)}")
+    return words, ""
+
+
+def is_degenerate(edge1, edge2) -> bool:
+    edge1, edge2 = np.asarray(edge1, dtype=np.float64), np.asarray(edge2, dtype=np.float64)
+    area = np.linalg.norm(np.cross(edge1, edge2))
+    return area <= 1e-7 * np.linalg.norm(edge1) * np.linalg.norm(edge2)
+
+
+def read_camera(words) -> SceneCamera:
+    if len(words) != 16:
+        raise SceneError("'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F "
+                         f"sensor S), got {len(words)}")
+    for index, label in [(0, "eye"), (4, "look"), (8, "up"), (12, "focal"), (14, "sensor")]:
+        expect_label(words, index, label, "camera")
+    camera = SceneCamera(vector(words, 1), vector(words, 5), vector(words, 9),
+                         number(words[13]), number(words[15]))
+    look, up = np.array(camera.look), np.array(camera.up)
+    if not look.any():
+        raise SceneError("the camera's look direction must not be zero")
+    if not up.any():
+        raise SceneError("the camera's up direction must not be zero")
+    if np.linalg.norm(np.cross(look, up)) <= 1e-6 * np.linalg.norm(look) * np.linalg.norm(up):
+        raise SceneError("the camera's up must not be parallel to its look direction")
+    if not (camera.focal_length > 0 and camera.sensor_width > 0):
+        raise SceneError("the camera's focal length and sensor width must be positive")
+    return camera
+
+
+def read_material(words) -> Material:
+    if len(words) not in (5, 9):
+        raise SceneError("'material' needs 5 fields (NAME albedo R G B) or 9 "
+                         f"(... emission R G B), got {len(words)}")
+    name = words[0]
+    if not NAME.match(name):
+        raise SceneError(f"material name '{name}': use letters, digits, '_' and '-', "
+                         "starting with a letter or '_'")
+    expect_label(words, 1, "albedo", "material")
+    albedo = vector(words, 2)
+    for word, value in zip(words[2:5], albedo):
+        if not 0 <= value <= 1:
+            raise SceneError(f"albedo '{word}' is outside [0, 1]: a surface cannot reflect "
+                             "more light than reaches it")
+    emission = (0.0, 0.0, 0.0)
+    if len(words) == 9:
+        expect_label(words, 5, "emission", "material")
+        emission = vector(words, 6)
+        for word, value in zip(words[6:9], emission):
+            if value < 0:
+                raise SceneError(f"emission '{word}' is negative")
+    return Material(name, albedo, emission)
+
+
+def find_mesh(written: str, scene_path: Path, mesh_folders) -> Path:
+    candidates = [Path(written)] if Path(written).is_absolute() else \
+        [scene_path.parent / written] + [Path(folder) / written for folder in mesh_folders]
+    for candidate in candidates:
+        if candidate.is_file():
+            return absolute(candidate)
+    tried = ", ".join(str(absolute(c)) for c in candidates)
+    raise SceneError(f"mesh file '{written}' not found (looked for {tried})")
+
+
+def read_mesh(words, scene_path, mesh_folders, line) -> Mesh:
+    if len(words) < 2:
+        raise SceneError("'mesh' needs a PATH and a MATERIAL, then optionally scale S, "
+                         "rotate_y DEGREES, translate X Y Z, name NAME")
+    mesh = Mesh(find_mesh(words[0], scene_path, mesh_folders), words[0], words[1],
+                line=line)
+    seen = set()
+    i = 2
+    while i < len(words):
+        option = words[i]
+        counts = {"scale": 1, "rotate_y": 1, "translate": 3, "name": 1}
+        if option not in counts:
+            raise SceneError(f"unknown mesh option '{option}' "
+                             "(expected scale, rotate_y, translate or name)")
+        if option in seen:
+            raise SceneError(f"'{option}' is given twice")
+        seen.add(option)
+        count = counts[option]
+        if len(words) - (i + 1) < count:
+            what = "name" if option == "name" else "number" if count == 1 else "numbers"
+            raise SceneError(f"'{option}' needs {count} {what}")
+        if option == "scale":
+            mesh.scale = number(words[i + 1])
+            if not mesh.scale > 0:
+                raise SceneError(f"the mesh's scale must be positive, got '{words[i + 1]}'")
+        elif option == "rotate_y":
+            mesh.rotation_y_degrees = number(words[i + 1])
+        elif option == "translate":
+            mesh.translation = vector(words, i + 1)
+        else:
+            mesh.name = shape_name(words[i + 1])
+        i += 1 + count
+    return mesh
+
+
+def parse_scene(text: str, path, mesh_folders=()) -> Scene:
+    """Parses scene text; `path` names it in messages and anchors relative mesh paths."""
+    path = absolute(path)
+    camera, camera_line = None, 0
+    materials, material_lines, uses = {}, {}, []
+    scene = Scene(path, None)
+
+    def fail(line, message):
+        raise SceneError(f"{path}:{line}: {message}")
+
+    if not text:
+        fail(0, "empty file")
+    text = text.removeprefix("\ufeff")
+    for line_number, line in enumerate(text.split("\n"), start=1):
+        try:
+            if CONTROL_BYTES.search(line):
+                raise SceneError("binary data (a control byte) in what should be a text file")
+            words = line.split("#", 1)[0].split()
+            if not words:
+                continue
+            keyword, words = words[0], words[1:]
+            if keyword == "camera":
+                if camera is not None:
+                    raise SceneError(f"a second camera (the first is on line {camera_line})")
+                camera, camera_line = read_camera(words), line_number
+            elif keyword == "material":
+                material = read_material(words)
+                if material.name in materials:
+                    raise SceneError(f"material '{material.name}' is already defined on "
+                                     f"line {material_lines[material.name]}")
+                materials[material.name] = material
+                material_lines[material.name] = line_number
+            elif keyword == "sphere":
+                fields, name = shape_fields("sphere", words, 5, "CX CY CZ RADIUS MATERIAL")
+                center, radius = vector(fields, 0), number(fields[3])
+                if not radius > 0:
+                    raise SceneError(f"the sphere's radius must be positive, got '{fields[3]}'")
+                uses.append((line_number, fields[4]))
+                scene.spheres.append(Sphere(center, radius, fields[4], name))
+            elif keyword == "quad":
+                fields, name = shape_fields("quad", words, 10,
+                                            "OX OY OZ EX EY EZ FX FY FZ MATERIAL")
+                quad = Quad(vector(fields, 0), vector(fields, 3), vector(fields, 6),
+                            fields[9], name)
+                if is_degenerate(quad.edge1, quad.edge2):
+                    raise SceneError("the quad has zero area: an edge is zero or the two "
+                                     "edges are parallel")
+                uses.append((line_number, quad.material))
+                scene.quads.append(quad)
+            elif keyword == "triangle":
+                fields, name = shape_fields("triangle", words, 10,
+                                            "AX AY AZ BX BY BZ CX CY CZ MATERIAL")
+                triangle = Triangle(vector(fields, 0), vector(fields, 3), vector(fields, 6),
+                                    fields[9], name)
+                a, b, c = (np.array(p) for p in (triangle.p0, triangle.p1, triangle.p2))
+                if is_degenerate(b - a, c - a):
+                    raise SceneError("the triangle has zero area: its corners are on one line")
+                uses.append((line_number, triangle.material))
+                scene.triangles.append(triangle)
+            elif keyword == "mesh":
+                mesh = read_mesh(words, path, mesh_folders, line_number)
+                uses.append((line_number, mesh.material))
+                scene.meshes.append(mesh)
+            else:
+                raise SceneError(f"unknown keyword '{keyword}' (expected camera, material, "
+                                 "sphere, quad, triangle or mesh)")
+        except SceneError as error:
+            fail(line_number, str(error))
+
+    for line_number, material in uses:
+        if material not in materials:
+            fail(line_number, f"material '{material}' is not defined")
+    if camera is None:
+        fail(0, "no camera: a scene needs one 'camera' line")
+    scene.camera = camera
+    scene.materials = materials
+    if not scene.emitters():
+        fail(0, "no emitter: no shape uses a material with an emission")
+    return scene
+
+
+def load_scene(path, mesh_folders=()) -> Scene:
+    """Reads a scene file; mesh_folders are searched for mesh paths after its folder."""
+    path = absolute(path)
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        raise SceneError(f"{path}: cannot open ({error.strerror})") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}:0: not a text file (not UTF-8)") from None
+    return parse_scene(text, path, mesh_folders)
+
+
+def default_mesh_folders():
+    """The build's generated assets (cmake/Assets.cmake), where gems.py writes meshes/."""
+    return [Path(__file__).resolve().parents[1] / "build" / "assets"]

@@ -1,0 +1,509 @@
+// Chapter 10's scene files: every statement read as documented, the exact message for
+// every mistake, round trips through formatSceneFile, the shipped scenes, and no crash
+// or hang on garbage.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "course/error.h"
+#include "scene_file.h"
+
+namespace fs = std::filesystem;
+using course::ExitCode;
+
+namespace {
+
+const fs::path kScenes = fs::path(COURSE_SOURCE_DIR) / "assets" / "scenes";
+
+// A fresh folder per test, removed afterwards.
+class SceneFileTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        folder_ = fs::temp_directory_path() /
+                  ("scene_file_" + std::to_string(getpid()) + "_" + info->name());
+        fs::remove_all(folder_);
+        fs::create_directories(folder_);
+    }
+    void TearDown() override { fs::remove_all(folder_); }
+
+    fs::path write(const std::string& name, const std::string& text) const {
+        const fs::path path = folder_ / name;
+        fs::create_directories(path.parent_path());
+        std::ofstream(path, std::ios::binary) << text;
+        return path;
+    }
+
+    // The message loadSceneFile throws for `text`; fails the test if it loads.
+    std::string failure(const std::string& text,
+                        const std::vector<std::string>& meshFolders = {}) const {
+        const fs::path path = write("bad.scene", text);
+        try {
+            loadSceneFile(path.string(), meshFolders);
+            ADD_FAILURE() << "loaded:\n" << text;
+        } catch (const course::Failure& error) {
+            EXPECT_EQ(error.code(), ExitCode::BadInput) << error.what();
+            return error.what();
+        }
+        return "";
+    }
+
+    // "<absolute path of bad.scene>:<line>: <message>"
+    std::string at(size_t line, const std::string& message) const {
+        return (folder_ / "bad.scene").string() + ":" + std::to_string(line) + ": " + message;
+    }
+
+    fs::path folder_;
+};
+
+// The smallest valid scene, and lines that follow it in the error tests: line 4 is the
+// first line a test appends.
+const std::string kCamera = "camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036\n";
+const std::string kValid = kCamera +
+                           "material lamp albedo 0.5 0.5 0.5 emission 1 2 3\n"
+                           "sphere 0 3 0 0.5 lamp\n";
+
+void expectSameVector(glm::vec3 a, glm::vec3 b) {
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(a.z, b.z);
+}
+
+void expectSameScene(const SceneFile& a, const SceneFile& b) {
+    expectSameVector(a.camera.eye, b.camera.eye);
+    expectSameVector(a.camera.look, b.camera.look);
+    expectSameVector(a.camera.up, b.camera.up);
+    EXPECT_EQ(a.camera.focalLength, b.camera.focalLength);
+    EXPECT_EQ(a.camera.sensorWidth, b.camera.sensorWidth);
+    ASSERT_EQ(a.materials.size(), b.materials.size());
+    for (size_t i = 0; i < a.materials.size(); ++i) {
+        EXPECT_EQ(a.materials[i].name, b.materials[i].name);
+        expectSameVector(a.materials[i].albedo, b.materials[i].albedo);
+        expectSameVector(a.materials[i].emission, b.materials[i].emission);
+    }
+    ASSERT_EQ(a.spheres.size(), b.spheres.size());
+    for (size_t i = 0; i < a.spheres.size(); ++i) {
+        expectSameVector(a.spheres[i].center, b.spheres[i].center);
+        EXPECT_EQ(a.spheres[i].radius, b.spheres[i].radius);
+        EXPECT_EQ(a.spheres[i].material, b.spheres[i].material);
+        EXPECT_EQ(a.spheres[i].name, b.spheres[i].name);
+    }
+    ASSERT_EQ(a.quads.size(), b.quads.size());
+    for (size_t i = 0; i < a.quads.size(); ++i) {
+        expectSameVector(a.quads[i].origin, b.quads[i].origin);
+        expectSameVector(a.quads[i].edge1, b.quads[i].edge1);
+        expectSameVector(a.quads[i].edge2, b.quads[i].edge2);
+        EXPECT_EQ(a.quads[i].material, b.quads[i].material);
+        EXPECT_EQ(a.quads[i].name, b.quads[i].name);
+    }
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    for (size_t i = 0; i < a.triangles.size(); ++i) {
+        expectSameVector(a.triangles[i].p0, b.triangles[i].p0);
+        expectSameVector(a.triangles[i].p1, b.triangles[i].p1);
+        expectSameVector(a.triangles[i].p2, b.triangles[i].p2);
+        EXPECT_EQ(a.triangles[i].material, b.triangles[i].material);
+        EXPECT_EQ(a.triangles[i].name, b.triangles[i].name);
+    }
+    ASSERT_EQ(a.meshes.size(), b.meshes.size());
+    for (size_t i = 0; i < a.meshes.size(); ++i) {
+        EXPECT_EQ(a.meshes[i].path, b.meshes[i].path);
+        EXPECT_EQ(a.meshes[i].writtenPath, b.meshes[i].writtenPath);
+        EXPECT_EQ(a.meshes[i].material, b.meshes[i].material);
+        EXPECT_EQ(a.meshes[i].scale, b.meshes[i].scale);
+        EXPECT_EQ(a.meshes[i].rotationYDegrees, b.meshes[i].rotationYDegrees);
+        expectSameVector(a.meshes[i].translation, b.meshes[i].translation);
+        EXPECT_EQ(a.meshes[i].name, b.meshes[i].name);
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading what is written
+// ---------------------------------------------------------------------------------------
+
+TEST_F(SceneFileTest, ReadsEveryStatement) {
+    write("meshes/gem.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const fs::path path = write("all.scene",
+        "# a comment line\n"
+        "camera eye 1 2 3 look 0 0 -1 up 0 1 0 focal 0.05 sensor 0.025  # the camera\n"
+        "\n"
+        "material white albedo 0.8 0.7 0.6\n"
+        "material lamp albedo 0.1 0.2 0.3 emission 10 20 30\n"
+        "sphere 0 1 2 0.5 white\n"
+        "sphere 3 4 5 1.5 lamp name sun\n"
+        "quad -1 0 1  2 0 0  0 0 -2 white name floor\n"
+        "triangle 0 0 0  1 0 0  0 1 0 lamp\n"
+        "\tmesh meshes/gem.obj white translate 1 2 3 scale 2 rotate_y 90 name gem\n"
+        "mesh meshes/gem.obj lamp\n");
+    const SceneFile scene = loadSceneFile(path.string());
+
+    EXPECT_EQ(scene.path, path.string());
+    expectSameVector(scene.camera.eye, {1, 2, 3});
+    expectSameVector(scene.camera.look, {0, 0, -1});
+    expectSameVector(scene.camera.up, {0, 1, 0});
+    EXPECT_EQ(scene.camera.focalLength, 0.05f);
+    EXPECT_EQ(scene.camera.sensorWidth, 0.025f);
+
+    ASSERT_EQ(scene.materials.size(), 2u);
+    EXPECT_EQ(scene.materials[0].name, "white");
+    expectSameVector(scene.materials[0].albedo, {0.8f, 0.7f, 0.6f});
+    EXPECT_FALSE(scene.materials[0].emits());
+    expectSameVector(scene.materials[1].emission, {10, 20, 30});
+    EXPECT_TRUE(scene.materials[1].emits());
+
+    ASSERT_EQ(scene.spheres.size(), 2u);
+    expectSameVector(scene.spheres[1].center, {3, 4, 5});
+    EXPECT_EQ(scene.spheres[1].radius, 1.5f);
+    EXPECT_EQ(scene.spheres[0].material, 0u);
+    EXPECT_EQ(scene.spheres[1].material, 1u);
+    EXPECT_EQ(scene.spheres[0].name, "");
+    EXPECT_EQ(scene.spheres[1].name, "sun");
+
+    ASSERT_EQ(scene.quads.size(), 1u);
+    expectSameVector(scene.quads[0].origin, {-1, 0, 1});
+    expectSameVector(scene.quads[0].edge1, {2, 0, 0});
+    expectSameVector(scene.quads[0].edge2, {0, 0, -2});
+    EXPECT_EQ(scene.quads[0].name, "floor");
+
+    ASSERT_EQ(scene.triangles.size(), 1u);
+    expectSameVector(scene.triangles[0].p1, {1, 0, 0});
+    EXPECT_EQ(scene.triangles[0].material, 1u);
+
+    ASSERT_EQ(scene.meshes.size(), 2u);
+    const SceneMesh& gem = scene.meshes[0];
+    EXPECT_EQ(gem.path, (folder_ / "meshes" / "gem.obj").string());
+    EXPECT_EQ(gem.writtenPath, "meshes/gem.obj");
+    EXPECT_EQ(gem.scale, 2.0f);
+    EXPECT_EQ(gem.rotationYDegrees, 90.0f);
+    expectSameVector(gem.translation, {1, 2, 3});
+    EXPECT_EQ(gem.name, "gem");
+    EXPECT_EQ(gem.line, 10u);
+    EXPECT_EQ(scene.meshes[1].scale, 1.0f);  // defaults
+    EXPECT_EQ(scene.meshes[1].rotationYDegrees, 0.0f);
+
+    // sun, the triangle and the second mesh use the emitting material.
+    EXPECT_EQ(scene.emitterCount(), 3u);
+}
+
+TEST_F(SceneFileTest, MeshTransformScalesThenTurnsThenMoves) {
+    SceneMesh mesh;
+    mesh.scale = 2;
+    mesh.rotationYDegrees = 90;  // counter-clockwise seen from above: +x goes to -z
+    mesh.translation = {1, 0, 0};
+    const glm::vec4 point = mesh.worldFromMesh() * glm::vec4(1, 1, 0, 1);
+    EXPECT_NEAR(point.x, 1.0f, 1e-6f);
+    EXPECT_NEAR(point.y, 2.0f, 1e-6f);
+    EXPECT_NEAR(point.z, -2.0f, 1e-6f);
+}
+
+TEST_F(SceneFileTest, MaterialsMayComeAfterTheirShapes) {
+    const SceneFile scene = parseSceneText(kCamera +
+                                               "sphere 0 0 0 1 lamp\n"
+                                               "quad 0 0 0 1 0 0 0 1 0 white\n"
+                                               "material white albedo 1 1 1\n"
+                                               "material lamp albedo 0 0 0 emission 1 1 1\n",
+                                           (folder_ / "x.scene").string());
+    EXPECT_EQ(scene.spheres[0].material, 1u);
+    EXPECT_EQ(scene.quads[0].material, 0u);
+}
+
+TEST_F(SceneFileTest, AcceptsWindowsLineEndsByteOrderMarkAndPlusSigns) {
+    const std::string text = "\xEF\xBB\xBF" + kCamera.substr(0, kCamera.size() - 1) +
+                             "\r\nmaterial lamp albedo +0.5 0.5 5e-1 emission 1 1 1\r\n"
+                             "sphere 0 0 0 +1 lamp\r\n";
+    const SceneFile scene = loadSceneFile(write("crlf.scene", text).string());
+    EXPECT_EQ(scene.materials[0].albedo.z, 0.5f);
+    EXPECT_EQ(scene.spheres[0].radius, 1.0f);
+}
+
+TEST_F(SceneFileTest, MeshesAreFoundInTheSceneFolderThenInMeshFolders) {
+    const fs::path generated = folder_ / "generated";
+    write("generated/meshes/a.obj", "v 0 0 0\n");
+    write("generated/meshes/b.obj", "v 0 0 0\n");
+    write("scenes/meshes/b.obj", "v 0 0 0\n");  // the scene's folder wins
+    const fs::path scenePath = write("scenes/s.scene", kValid +
+                                                           "mesh meshes/a.obj lamp\n"
+                                                           "mesh meshes/b.obj lamp\n");
+    const SceneFile scene = loadSceneFile(scenePath.string(), {generated.string()});
+    EXPECT_EQ(scene.meshes[0].path, (generated / "meshes" / "a.obj").string());
+    EXPECT_EQ(scene.meshes[1].path, (folder_ / "scenes" / "meshes" / "b.obj").string());
+
+    // An absolute path is taken as it is.
+    const std::string absolute = (generated / "meshes" / "a.obj").string();
+    const SceneFile other =
+        loadSceneFile(write("t.scene", kValid + "mesh " + absolute + " lamp\n").string());
+    EXPECT_EQ(other.meshes[0].path, absolute);
+}
+
+// ---------------------------------------------------------------------------------------
+// Round trips
+// ---------------------------------------------------------------------------------------
+
+TEST_F(SceneFileTest, FormatReadsBackAsTheSameScene) {
+    write("m.obj", "v 0 0 0\n");
+    const std::string text = kCamera +
+                             "material a albedo 0.1 0.2 0.30000001 emission 1e-3 0 7\n"
+                             "material b-2 albedo 1 0 0.333333343\n"
+                             "sphere 0.1 -0.2 3e5 0.25 a name s\n"
+                             "quad 1 2 3 4 5 6 7 8 10 b-2\n"
+                             "triangle 0 0 0 1 0 0 0 1e-3 0 a name t\n"
+                             "mesh m.obj b-2 scale 0.3 rotate_y -17.5 translate 1 2 3 name m\n";
+    const std::string path = (folder_ / "x.scene").string();
+    const SceneFile scene = parseSceneText(text, path);
+    const std::string formatted = formatSceneFile(scene);
+    const SceneFile again = parseSceneText(formatted, path);
+    expectSameScene(scene, again);
+    EXPECT_EQ(formatSceneFile(again), formatted);
+}
+
+TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
+    // The gems are generated at build time; any files with their names will do here.
+    const fs::path generated = folder_ / "generated";
+    for (const char* cut : {"brilliant", "octahedron", "emerald"})
+        write("generated/meshes/gem_" + std::string(cut) + ".obj", "v 0 0 0\n");
+    size_t count = 0;
+    for (const auto& entry : fs::directory_iterator(kScenes)) {
+        if (entry.path().extension() != ".scene")
+            continue;
+        SCOPED_TRACE(entry.path().string());
+        const SceneFile scene = loadSceneFile(entry.path().string(), {generated.string()});
+        EXPECT_EQ(scene.emitterCount(), 1u);
+        const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,
+                                               {generated.string()});
+        expectSameScene(scene, again);
+        ++count;
+    }
+    EXPECT_GE(count, 3u);
+}
+
+TEST_F(SceneFileTest, CornellSpheresHoldsMitsubasCornellBox) {
+    const SceneFile scene = loadSceneFile((kScenes / "cornell_spheres.scene").string());
+    // Mitsuba's camera: from (0, 0, 3.9) towards the origin, 39.3077 degrees wide.
+    expectSameVector(scene.camera.eye, {0, 0, 3.9f});
+    const double fov = 2.0 * std::atan(scene.camera.sensorWidth /
+                                       (2.0 * scene.camera.focalLength)) * 180.0 / M_PI;
+    EXPECT_NEAR(fov, 39.3077, 1e-4);
+    // Its light: 0.46 x 0.38 at y = 0.99, facing down, radiance (18.387, 13.9873, 6.75357).
+    ASSERT_EQ(scene.emitterCount(), 1u);
+    const SceneQuad* light = nullptr;
+    for (const SceneQuad& quad : scene.quads)
+        if (scene.materials[quad.material].emits())
+            light = &quad;
+    ASSERT_NE(light, nullptr);
+    expectSameVector(light->origin, {-0.23f, 0.99f, -0.18f});
+    expectSameVector(light->edge1 + light->edge2, {0.46f, 0, 0.38f});
+    EXPECT_LT(glm::cross(light->edge1, light->edge2).y, 0.0f);
+    expectSameVector(scene.materials[light->material].emission, {18.387f, 13.9873f, 6.75357f});
+    // Every wall faces into the room.
+    for (const SceneQuad& quad : scene.quads) {
+        const glm::vec3 center = quad.origin + 0.5f * (quad.edge1 + quad.edge2);
+        EXPECT_LT(glm::dot(glm::cross(quad.edge1, quad.edge2), center), 0.0f) << quad.name;
+    }
+    EXPECT_EQ(scene.spheres.size(), 2u);
+}
+
+// ---------------------------------------------------------------------------------------
+// Mistakes: each with its file:line and message
+// ---------------------------------------------------------------------------------------
+
+TEST_F(SceneFileTest, EmptyFile) { EXPECT_EQ(failure(""), at(0, "empty file")); }
+
+TEST_F(SceneFileTest, UnknownKeyword) {
+    EXPECT_EQ(failure(kValid + "cylinder 0 0 0 1 lamp\n"),
+              at(4, "unknown keyword 'cylinder' (expected camera, material, sphere, quad, "
+                    "triangle or mesh)"));
+}
+
+TEST_F(SceneFileTest, WrongNumberOfFields) {
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 lamp\n"),
+              at(4, "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally "
+                    "name NAME; got 4"));
+    EXPECT_EQ(failure(kValid + "quad 0 0 0 1 0 0 0 1 0 lamp extra\n"),
+              at(4, "'quad' needs 10 fields (OX OY OZ EX EY EZ FX FY FZ MATERIAL), then "
+                    "optionally name NAME; got 11"));
+    EXPECT_EQ(failure(kValid + "triangle 0 0 0 1 0 0 0 1 lamp\n"),
+              at(4, "'triangle' needs 10 fields (AX AY AZ BX BY BZ CX CY CZ MATERIAL), then "
+                    "optionally name NAME; got 9"));
+    EXPECT_EQ(failure(kValid + "material m albedo 1 1\n"),
+              at(4, "'material' needs 5 fields (NAME albedo R G B) or 9 (... emission R G "
+                    "B), got 4"));
+    EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 1\n"),
+              at(1, "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor "
+                    "S), got 14"));
+    EXPECT_EQ(failure(kValid + "mesh x.obj\n"),
+              at(4, "'mesh' needs a PATH and a MATERIAL, then optionally scale S, rotate_y "
+                    "DEGREES, translate X Y Z, name NAME"));
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 lamp label x\n"),
+              at(4, "'sphere' expects 'name' here, got 'label'"));
+}
+
+TEST_F(SceneFileTest, WrongLabels) {
+    EXPECT_EQ(failure("camera eye 0 0 0 at 0 0 -1 up 0 1 0 focal 1 sensor 1\n"),
+              at(1, "'camera' expects 'look' here, got 'at'"));
+    EXPECT_EQ(failure(kValid + "material m colour 1 1 1\n"),
+              at(4, "'material' expects 'albedo' here, got 'colour'"));
+    EXPECT_EQ(failure(kValid + "material m albedo 1 1 1 glow 1 1 1\n"),
+              at(4, "'material' expects 'emission' here, got 'glow'"));
+}
+
+TEST_F(SceneFileTest, BadNumbers) {
+    EXPECT_EQ(failure(kValid + "sphere 0 0 zero 1 lamp\n"), at(4, "'zero' is not a number"));
+    EXPECT_EQ(failure(kValid + "sphere 0 0 1.5.2 1 lamp\n"), at(4, "'1.5.2' is not a number"));
+    const std::string notFinite = " is not a finite number";
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 nan lamp\n"), at(4, "'nan'" + notFinite));
+    EXPECT_EQ(failure(kValid + "sphere inf 0 0 1 lamp\n"), at(4, "'inf'" + notFinite));
+    EXPECT_EQ(failure(kValid + "sphere -INF 0 0 1 lamp\n"),
+              at(4, "'-INF' is not a finite number"));
+    EXPECT_EQ(failure(kValid + "sphere 1e39 0 0 1 lamp\n"),
+              at(4, "'1e39' is too large for a float"));
+    EXPECT_EQ(failure(kValid + "sphere 1e999 0 0 1 lamp\n"),
+              at(4, "'1e999' is out of range for a number"));
+}
+
+TEST_F(SceneFileTest, UndefinedMaterial) {
+    EXPECT_EQ(failure(kValid + "\n# comment\nsphere 0 0 0 1 gold\n"),
+              at(6, "material 'gold' is not defined"));
+}
+
+TEST_F(SceneFileTest, DuplicateMaterial) {
+    EXPECT_EQ(failure(kValid + "material lamp albedo 1 1 1\n"),
+              at(4, "material 'lamp' is already defined on line 2"));
+}
+
+TEST_F(SceneFileTest, BadMaterialValues) {
+    EXPECT_EQ(failure(kValid + "material m albedo 1.2 0 0\n"),
+              at(4, "albedo '1.2' is outside [0, 1]: a surface cannot reflect more light "
+                    "than reaches it"));
+    EXPECT_EQ(failure(kValid + "material m albedo 0 0 0 emission 1 -1 1\n"),
+              at(4, "emission '-1' is negative"));
+    EXPECT_EQ(failure(kValid + "material 9lives albedo 0 0 0\n"),
+              at(4, "material name '9lives': use letters, digits, '_' and '-', starting "
+                    "with a letter or '_'"));
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 lamp name a.b\n"),
+              at(4, "shape name 'a.b': use letters, digits, '_' and '-', starting with a "
+                    "letter or '_'"));
+}
+
+TEST_F(SceneFileTest, NonPositiveRadius) {
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 -1 lamp\n"),
+              at(4, "the sphere's radius must be positive, got '-1'"));
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 0 lamp\n"),
+              at(4, "the sphere's radius must be positive, got '0'"));
+}
+
+TEST_F(SceneFileTest, ZeroAreaShapes) {
+    const std::string quad = "the quad has zero area: an edge is zero or the two edges are "
+                             "parallel";
+    EXPECT_EQ(failure(kValid + "quad 0 0 0  1 0 0  2 0 0 lamp\n"), at(4, quad));
+    EXPECT_EQ(failure(kValid + "quad 0 0 0  0 0 0  0 1 0 lamp\n"), at(4, quad));
+    EXPECT_EQ(failure(kValid + "triangle 0 0 0  1 1 1  2 2 2 lamp\n"),
+              at(4, "the triangle has zero area: its corners are on one line"));
+    // Thin is not zero: a 1 mm by 10 m quad is a real quad.
+    EXPECT_NO_THROW(parseSceneText(kValid + "quad 0 0 0 10 0 0 0 0.001 0 lamp\n", "x"));
+}
+
+TEST_F(SceneFileTest, Camera) {
+    EXPECT_EQ(failure(kValid + kCamera),
+              at(4, "a second camera (the first is on line 1)"));
+    EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 0 up 0 1 0 focal 1 sensor 1\n"),
+              at(1, "the camera's look direction must not be zero"));
+    EXPECT_EQ(failure("camera eye 0 0 0 look 0 2 0 up 0 1 0 focal 1 sensor 1\n"),
+              at(1, "the camera's up must not be parallel to its look direction"));
+    EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 0 sensor 1\n"),
+              at(1, "the camera's focal length and sensor width must be positive"));
+    EXPECT_EQ(failure("material lamp albedo 0 0 0 emission 1 1 1\nsphere 0 0 0 1 lamp\n"),
+              at(0, "no camera: a scene needs one 'camera' line"));
+    EXPECT_EQ(failure("# only a comment\n"),
+              at(0, "no camera: a scene needs one 'camera' line"));
+}
+
+TEST_F(SceneFileTest, NoEmitter) {
+    const std::string message = "no emitter: no shape uses a material with an emission";
+    EXPECT_EQ(failure(kCamera + "material white albedo 1 1 1\nsphere 0 0 0 1 white\n"),
+              at(0, message));
+    // An emitting material that no shape uses lights nothing.
+    EXPECT_EQ(failure(kCamera + "material lamp albedo 0 0 0 emission 1 1 1\n"), at(0, message));
+    EXPECT_EQ(failure(kCamera + "material dark albedo 0 0 0 emission 0 0 0\n"
+                                "sphere 0 0 0 1 dark\n"),
+              at(0, message));
+}
+
+TEST_F(SceneFileTest, BinaryBytes) {
+    EXPECT_EQ(failure(kValid + std::string("sphere 0 0 0 1 lamp\0\n", 21)),
+              at(4, "binary data (a control byte) in what should be a text file"));
+    EXPECT_EQ(failure(std::string("\x7f" "ELF\x02\x01\x01", 7)),
+              at(1, "binary data (a control byte) in what should be a text file"));
+}
+
+TEST_F(SceneFileTest, MeshMistakes) {
+    write("m.obj", "v 0 0 0\n");
+    EXPECT_EQ(failure(kValid + "mesh m.obj lamp scale 0\n"),
+              at(4, "the mesh's scale must be positive, got '0'"));
+    EXPECT_EQ(failure(kValid + "mesh m.obj lamp scale 1 scale 2\n"),
+              at(4, "'scale' is given twice"));
+    EXPECT_EQ(failure(kValid + "mesh m.obj lamp translate 1 2\n"),
+              at(4, "'translate' needs 3 numbers"));
+    EXPECT_EQ(failure(kValid + "mesh m.obj lamp name\n"), at(4, "'name' needs 1 name"));
+    EXPECT_EQ(failure(kValid + "mesh m.obj lamp rotate_x 90\n"),
+              at(4, "unknown mesh option 'rotate_x' (expected scale, rotate_y, translate or "
+                    "name)"));
+    EXPECT_EQ(failure(kValid + "mesh missing.obj lamp\n", {"/nonexistent/generated"}),
+              at(4, "mesh file 'missing.obj' not found (looked for " +
+                        (folder_ / "missing.obj").string() +
+                        ", /nonexistent/generated/missing.obj)"));
+    EXPECT_EQ(failure(kValid + "mesh m.obj gold\n"), at(4, "material 'gold' is not defined"));
+}
+
+TEST_F(SceneFileTest, FilesThatCannotBeRead) {
+    const std::string missing = (folder_ / "missing.scene").string();
+    try {
+        loadSceneFile(missing);
+        FAIL() << "loaded a missing file";
+    } catch (const course::Failure& error) {
+        EXPECT_EQ(error.code(), ExitCode::BadInput);
+        EXPECT_EQ(std::string(error.what()),
+                  missing + ": cannot open (No such file or directory)");
+    }
+    try {
+        loadSceneFile(folder_.string());
+        FAIL() << "loaded a directory";
+    } catch (const course::Failure& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  folder_.string() + ": cannot open: it is a directory");
+    }
+}
+
+TEST_F(SceneFileTest, GarbageNeverCrashes) {
+    // Random bytes, and random mixes of the format's own words: every outcome is a scene
+    // or a BadInput message naming the file, quickly.
+    std::mt19937 random(7);
+    const std::vector<std::string> words = {
+        "camera", "material", "sphere", "quad", "triangle", "mesh", "eye", "look", "up",
+        "focal", "sensor", "albedo", "emission", "name", "scale", "rotate_y", "translate",
+        "lamp", "0", "1", "-1", "1e3", "nan", "#", "\n", "\n", " ", "\t", "x.obj"};
+    for (int trial = 0; trial < 400; ++trial) {
+        std::string text = trial % 4 == 0 ? std::string() : kValid;
+        const int length = int(random() % 60);
+        for (int i = 0; i < length; ++i) {
+            if (trial % 2 == 0)
+                text += char(random() % 256);
+            else
+                text += words[random() % words.size()] + " ";
+        }
+        try {
+            parseSceneText(text, "garbage.scene");
+        } catch (const course::Failure& error) {
+            EXPECT_EQ(error.code(), ExitCode::BadInput);
+            EXPECT_EQ(std::string(error.what()).rfind("garbage.scene:", 0), 0u) << error.what();
+        }
+    }
+}
+
+}  // namespace
