@@ -116,11 +116,18 @@ def cmd_list(args):
         print(f"{name:24} {chapter_summary(name)}")
 
 
+# What ./course run shows of a chapter when no options are given: Monte Carlo chapters
+# need samples to look like their book page (about half a minute on llvmpipe).
+SHOWCASE_OPTIONS = {
+    "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
+}
+
+
 def cmd_run(args):
     names = chapters()
     name = find_chapter(args.chapter) if args.chapter else names[-1]
     build([name])
-    options = list(args.options)
+    options = list(args.options) or list(SHOWCASE_OPTIONS.get(name, []))
     if "--window" not in options and "--headless" not in options:
         options.insert(0, "--headless")
     out = None
