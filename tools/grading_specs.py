@@ -97,4 +97,15 @@ SPECS: dict[str, list[GradeTest]] = {
                   ["--width", "64", "--height", "48", "--view", "ao", "--spp", "2",
                    "--seed", "7"], visibility="after_due_date"),
     ],
+    "10": [
+        # A fixed seed makes a path-traced image deterministic: the submission must
+        # reproduce the solution's estimate, noise and all, at the same seed.
+        GradeTest("Cornell box, direct light", 3,
+                  ["--width", "48", "--height", "48", "--spp", "4", "--seed", "7", "--direct"]),
+        GradeTest("Cornell box, global illumination", 4,
+                  ["--width", "48", "--height", "48", "--spp", "4", "--seed", "7"]),
+        GradeTest("light sampling only", 3, ["--width", "48", "--height", "48", "--spp", "4",
+                                              "--seed", "3", "--estimator", "nee"],
+                  visibility="after_due_date"),
+    ],
 }

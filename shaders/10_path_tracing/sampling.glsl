@@ -24,10 +24,13 @@ mat3 basisAround(vec3 n) {
 // method): a uniform point on the unit disk, lifted onto the hemisphere. Directions
 // near the normal, which a Lambertian surface weights most, come up most often.
 vec3 cosineSampleHemisphere(vec3 normal, vec2 u) {
+    // BEGIN SOLUTION a uniform point on the unit disk (radius sqrt(u.x)), lifted up
     float radius = sqrt(u.x);
     float angle = 2.0 * PI * u.y;
     vec3 local = vec3(radius * cos(angle), radius * sin(angle), sqrt(max(0.0, 1.0 - u.x)));
     return basisAround(normal) * local;
+    // STUB: return normal;
+    // END SOLUTION
 }
 // --8<-- [end:cosine]
 
@@ -76,8 +79,11 @@ LightPoint sampleEmitter(Emitter emitter, vec2 u) {
 // emitter of emitters.length(), then 1 / area per square metre, and a small patch
 // dA at that distance and angle covers dA cosLight / distance^2 steradians.
 float lightPdf(uint emitter, float distance, float cosLight) {
+    // BEGIN SOLUTION the area density, turned into a density per steradian
     float areaPdf = 1.0 / (float(emitters.length()) * emitters[emitter].area);
     return areaPdf * distance * distance / cosLight;
+    // STUB: return 1.0;
+    // END SOLUTION
 }
 // --8<-- [end:light_pdf]
 
@@ -86,7 +92,10 @@ float lightPdf(uint emitter, float distance, float cosLight) {
 // other strategy has density `otherPdf`: pdf^2 / (pdf^2 + otherPdf^2), written so that
 // a huge density (a light seen edge-on) gives 1 instead of inf / inf.
 float powerHeuristic(float pdf, float otherPdf) {
+    // BEGIN SOLUTION pdf^2 / (pdf^2 + otherPdf^2), safe when pdf is huge
     float ratio = otherPdf / pdf;
     return 1.0 / (1.0 + ratio * ratio);
+    // STUB: return 0.5;
+    // END SOLUTION
 }
 // --8<-- [end:power_heuristic]
