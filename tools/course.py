@@ -148,6 +148,7 @@ def cmd_run(args):
 SANITIZED = BUILD / "sanitize"
 FUZZ_BUILD = BUILD / "fuzz"
 FUZZ_REGRESSIONS = ROOT / "tests" / "data" / "fuzz_regressions"
+FUZZ_SECONDS_IN_TESTS = 20
 
 
 def sanitizer_environment() -> dict:
@@ -196,6 +197,15 @@ def cmd_test(args):
     skipped = counts.get("skipped", 0)
     if result.returncode not in (0, 1) and failed == 0:
         failed += 1  # pytest itself broke (collection error, no tests)
+    if not args.chapter and not args.k:
+        # Every fuzz target for a short, bounded time: kept crashes are replayed and a
+        # new one fails the suite (./course fuzz runs longer).
+        say(f"fuzzing each parser for {FUZZ_SECONDS_IN_TESTS} s (libFuzzer)")
+        for target, result in run_fuzzing(None, FUZZ_SECONDS_IN_TESTS).items():
+            if result["passed"]:
+                passed += 1
+            else:
+                failed += 1
     minutes = (time.time() - started) / 60
     say(f"tests took {minutes:.1f} min")
     # A skipped check is not a passed one: it counts as a failure here.
@@ -231,9 +241,11 @@ def fuzz_seeds(target: str) -> list[Path]:
     return []
 
 
-def cmd_fuzz(args):
-    """Runs each libFuzzer target for a bounded time from a seed corpus; replays every
-    kept crash first; a new crash is copied into tests/data/fuzz_regressions/."""
+def run_fuzzing(target_filter: str | None, seconds: int) -> dict[str, dict]:
+    """Builds the libFuzzer targets, replays every kept crash input, then fuzzes each
+    target for `seconds` from its seed corpus. A new crash input is copied into
+    tests/data/fuzz_regressions/<target>/. Returns per target: executions, crashes,
+    and whether it passed."""
     if not shutil.which("clang++"):
         die("fuzzing needs clang (apt install clang)", code=2)
     with build_lock():
@@ -244,47 +256,54 @@ def cmd_fuzz(args):
                         env=environment, stdout=sys.stderr)
         run_checked(["cmake", "--build", str(FUZZ_BUILD)], stdout=sys.stderr)
     targets = sorted(p.name for p in (FUZZ_BUILD / "fuzz").iterdir() if p.is_file())
-    if args.target:
-        targets = [t for t in targets if args.target in t]
+    if target_filter:
+        targets = [t for t in targets if target_filter in t]
         if not targets:
-            die(f"no fuzz target matching '{args.target}'", code=2)
-    summary, failed = {}, False
+            die(f"no fuzz target matching '{target_filter}'", code=2)
+    summary = {}
     for target in targets:
         program = FUZZ_BUILD / "fuzz" / target
-        kept = sorted((FUZZ_REGRESSIONS / target).glob("*")) if (FUZZ_REGRESSIONS / target).exists() else []
+        passed = True
+        kept_folder = FUZZ_REGRESSIONS / target
+        kept = sorted(kept_folder.glob("*")) if kept_folder.exists() else []
         if kept:
             say(f"{target}: replaying {len(kept)} kept crash inputs")
-            replay = subprocess.run([str(program), *map(str, kept)], capture_output=True, text=True)
+            replay = subprocess.run([str(program), *map(str, kept)], capture_output=True,
+                                    text=True)
             if replay.returncode != 0:
                 print(replay.stderr[-3000:])
-                failed = True
+                passed = False
         corpus = FUZZ_BUILD / "corpus" / target
         crashes = FUZZ_BUILD / "crashes" / target
         for folder in (corpus, crashes):
             folder.mkdir(parents=True, exist_ok=True)
         for seed in fuzz_seeds(target):
             shutil.copyfile(seed, corpus / f"seed_{seed.parent.name}_{seed.name}")
-        say(f"{target}: fuzzing for {args.seconds} s")
+        say(f"{target}: fuzzing for {seconds} s")
         result = subprocess.run(
-            [str(program), str(corpus), f"-max_total_time={args.seconds}", "-timeout=10",
+            [str(program), str(corpus), f"-max_total_time={seconds}", "-timeout=10",
              "-rss_limit_mb=2048", "-print_final_stats=1", f"-artifact_prefix={crashes}/"],
             capture_output=True, text=True)
         executions = re.search(r"stat::number_of_executed_units:\s*(\d+)", result.stderr)
         found = sorted(crashes.iterdir())
         for crash in found:
-            keep = FUZZ_REGRESSIONS / target / crash.name
+            keep = kept_folder / crash.name
             keep.parent.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(crash, keep)
-        summary[target] = {"seconds": args.seconds,
-                           "executions": int(executions.group(1)) if executions else 0,
-                           "crashes": len(found)}
         if found or result.returncode != 0:
-            failed = True
+            passed = False
             print(result.stderr[-3000:])
-        print(f"{target:24} {summary[target]['executions']:>10} runs in {args.seconds} s, "
+        summary[target] = {"seconds": seconds, "crashes": len(found), "passed": passed,
+                           "executions": int(executions.group(1)) if executions else 0}
+        print(f"{target:24} {summary[target]['executions']:>10} runs in {seconds} s, "
               f"{len(found)} crashes")
     (FUZZ_BUILD / "summary.json").write_text(json.dumps(summary, indent=2))
-    if failed:
+    return summary
+
+
+def cmd_fuzz(args):
+    summary = run_fuzzing(args.target, args.seconds)
+    if not all(result["passed"] for result in summary.values()):
         die("fuzzing found a crash: the input is kept in tests/data/fuzz_regressions/")
 
 
