@@ -34,12 +34,15 @@ def chapters() -> list[str]:
 
 
 def chapter_summary(name: str) -> str:
-    """The first comment line of the chapter's main.cpp: '// Chapter 02: ...'."""
-    main = ROOT / "chapters" / name / "main.cpp"
-    for line in main.read_text().splitlines():
-        if line.startswith("// "):
-            return line[3:].split(": ", 1)[-1]
-    return ""
+    """The first sentence of the comment that opens the chapter's main.cpp
+    ('// Chapter 02: the GPU paints an image. ...' gives 'the GPU paints an image.')."""
+    words = []
+    for line in (ROOT / "chapters" / name / "main.cpp").read_text().splitlines():
+        if not line.startswith("//"):
+            break
+        words.append(line[2:].strip())
+    text = " ".join(words).split(": ", 1)[-1]
+    return text.split(". ")[0].rstrip(".") + "."
 
 
 def find_chapter(prefix: str) -> str:
