@@ -65,9 +65,11 @@ def say(message: str):
 
 @contextmanager
 def build_lock():
-    """Two ./course commands at once share one build folder: take turns."""
+    """Two ./course commands at once share one build folder: take turns.
+    COURSE_BUILD_LOCK names another lock file, so that two clones on one machine
+    can take turns too (two builds at once on a small machine only slow both)."""
     BUILD.mkdir(exist_ok=True)
-    with open(BUILD / ".lock", "w") as lock:
+    with open(os.environ.get("COURSE_BUILD_LOCK", BUILD / ".lock"), "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         yield
 
