@@ -129,8 +129,8 @@ SHOWCASE_OPTIONS = {
 
 
 def cmd_run(args):
-    names = chapters()
-    name = find_chapter(args.chapter) if args.chapter else names[-1]
+    numbered = [name for name in chapters() if name[:2].isdigit()]  # not the appendices
+    name = find_chapter(args.chapter) if args.chapter else numbered[-1]
     build([name])
     options = list(args.options) or list(SHOWCASE_OPTIONS.get(name, []))
     if "--window" not in options and "--headless" not in options:
