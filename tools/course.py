@@ -125,6 +125,7 @@ def cmd_list(args):
 # need samples to look like their book page (about half a minute on llvmpipe).
 SHOWCASE_OPTIONS = {
     "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
+    "11_bvh": ["--width", "320", "--height", "320", "--spp", "48"],
 }
 
 
@@ -408,10 +409,20 @@ def cmd_book(args):
 
 
 def cmd_bench(args):
-    build(["10_path_tracing"])
     sys.path.insert(0, str(ROOT / "tools"))
     import bench
-    sys.exit(bench.main(binary(find_chapter("10")), args.size, args.spp, args.depth))
+    status = 0
+    if args.which in ("all", "mitsuba"):
+        build(["10_path_tracing"])
+        status |= bench.main(binary(find_chapter("10")), args.size, args.spp, args.depth)
+    if args.which in ("all", "bvh"):
+        # The 100 000- and 1 000 000-triangle teapots are made only for this.
+        build(["11_bvh", "course_benchmark_assets"])
+        import bench_bvh
+        machine = f"{bench.cpu_model()} ({os.cpu_count()} cores)"
+        status |= bench_bvh.main(binary(find_chapter("11")), BUILD / "assets" / "meshes",
+                                 machine)
+    sys.exit(status)
 
 
 def cmd_release(args):
@@ -486,7 +497,10 @@ def main():
     book.add_argument("--draft", action="store_true",
                       help="quick small figures (how ./course test checks the book builds)")
 
-    bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box")
+    bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box; "
+                             "chapter 11's BVH against brute force, 552 to 1M triangles")
+    bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh"], default="all",
+                       help="which benchmark (default: both)")
     bench.add_argument("--size", type=int, default=256, help="image side (default 256)")
     bench.add_argument("--spp", type=int, default=128, help="samples per pixel (128)")
     bench.add_argument("--depth", type=int, default=6, help="bounces (default 6)")

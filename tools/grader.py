@@ -15,6 +15,7 @@ reference, error heatmap) and prints a table.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import resource
@@ -189,9 +190,13 @@ def write_heatmap(image: np.ndarray, reference: np.ndarray, path: Path):
 # ---------------------------------------------------------------- grading
 
 def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> Path:
+    """The solution's image for the test's arguments (the instructor's build, its own
+    shaders), made once and kept; the file name carries a hash of the arguments, so a
+    changed spec makes a new one."""
     folder = build / "grading" / chapter
     folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"{test.slug}.png"
+    digest = hashlib.sha256("\0".join(test.args).encode()).hexdigest()[:10]
+    path = folder / f"{test.slug}-{digest}.png"
     if not path.exists():
         subprocess.run([str(build / "bin" / chapter), "--headless", *test.args,
                         "--out", str(path)], check=True, capture_output=True, timeout=600)
@@ -199,10 +204,12 @@ def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> P
 
 
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
-               workdir: Path, report_dir: Path) -> Outcome:
+               workdir: Path, report_dir: Path, extra_args: list[str]) -> Outcome:
+    """Runs the submission with the test's arguments plus extra_args (its shader folder);
+    the reference is the solution's, with the test's arguments alone."""
     outcome = Outcome(test)
     if test.kind == "check":
-        code, output = run_limited([str(program), *test.args], workdir)
+        code, output = run_limited([str(program), *test.args, *extra_args], workdir)
         passed = code == 0 and test.expect in output
         outcome.score = test.max_score if passed else 0.0
         outcome.output = (("passed" if passed else f"failed: {describe_exit(code)}") +
@@ -210,8 +217,8 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
         return outcome
 
     out = workdir / f"{test.slug}.png"
-    code, output = run_limited([str(program), "--headless", *test.args, "--out", str(out)],
-                               workdir)
+    code, output = run_limited([str(program), "--headless", *test.args, *extra_args,
+                                "--out", str(out)], workdir)
     if code != 0 or not out.exists():
         outcome.output = f"the program {describe_exit(code)}, no image:\n{output.strip()}"
         return outcome
@@ -250,13 +257,10 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
                 outcomes.append(Outcome(test, 0.0, "the submission does not build:\n" +
                                         build_log[-OUTPUT_LIMIT:]))
                 continue
-            # The submission's shaders, not the solution's:
+            # The submission's shaders, not the solution's (but not for the reference):
             shader_args = ["--shader-dir", str(scratch / "submission" / "shaders" / chapter)]
-            runnable = GradeTest(test.name, test.max_score, [*test.args, *shader_args],
-                                 test.kind, test.visibility, test.expect)
-            outcome = grade_test(root, build, chapter, program, runnable, workdir, out)
-            outcome.test = test
-            outcomes.append(outcome)
+            outcomes.append(grade_test(root, build, chapter, program, test, workdir, out,
+                                       shader_args))
     results = {
         "score": round(sum(o.score for o in outcomes), 2),
         "output": f"chapter {chapter}" + (f"\n{notes}" if notes else ""),

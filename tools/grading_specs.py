@@ -108,4 +108,17 @@ SPECS: dict[str, list[GradeTest]] = {
                                               "--seed", "3", "--estimator", "nee"],
                   visibility="after_due_date"),
     ],
+    "11": [
+        # The tree must give the same pictures as brute force (a slab test that enters
+        # every box does too, but costs so many loop iterations that llvmpipe cuts the
+        # six-bounce paths short) and do the same work: --view cost shows each pixel's
+        # traversal steps, which depend on the SAH's tree and the box test.
+        GradeTest("teapot in the Cornell box, six bounces", 4,
+                  ["--width", "48", "--height", "48", "--spp", "2", "--seed", "7"]),
+        GradeTest("traversal work per pixel (--view cost)", 4,
+                  ["--width", "64", "--height", "64", "--spp", "1", "--view", "cost"]),
+        GradeTest("gems, traversal work per pixel", 2,
+                  ["--scene", "cornell_gems", "--width", "64", "--height", "64", "--spp",
+                   "1", "--view", "cost"], visibility="after_due_date"),
+    ],
 }

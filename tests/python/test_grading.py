@@ -47,11 +47,15 @@ GRADED = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.name[:2] in
 
 @pytest.mark.parametrize("chapter", GRADED)
 def test_solution_full_marks_and_starter_near_zero(tmp_path, chapter):
-    results, _ = grade(chapter, solution_copy(chapter, tmp_path / "solution"), tmp_path / "g1")
-    assert results["score"] == total(results)
+    # The starter first, with no reference images kept yet: the references must come
+    # from the solution's shaders, never from the submission being graded.
+    shutil.rmtree(ROOT / "build" / "grading" / chapter, ignore_errors=True)
     starter = classroom.release(ROOT, chapter, tmp_path / "starter")
     results, tests = grade(chapter, starter, tmp_path / "g2")
     assert results["score"] <= 0.1 * total(results), tests
+    results, tests = grade(chapter, solution_copy(chapter, tmp_path / "solution"),
+                           tmp_path / "g1")
+    assert results["score"] == total(results), tests
 
 
 def test_results_json_is_gradescope_shaped_and_report_has_images(tmp_path):

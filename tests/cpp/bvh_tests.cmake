@@ -1,0 +1,29 @@
+# Chapter 11's BVH: the builder's invariants and a C++ port of the GLSL traversal
+# against brute force (test_bvh), and the GLSL traversal itself on the GPU against that
+# port (test_bvh_gpu). Included from tests/cpp/CMakeLists.txt, after add_unit_test().
+# Both read the generated teapots, the big ones (100 000 and 1 000 000 triangles,
+# course_benchmark_assets) included: a test that cannot find one fails.
+if(NOT TARGET course_assets)
+  message(FATAL_ERROR "the BVH tests read the generated teapots: "
+    "include(Assets) in the top CMakeLists.txt before add_subdirectory(tests/cpp)")
+endif()
+
+set(_bvh_dir ${CMAKE_SOURCE_DIR}/chapters/11_bvh)
+# The OBJ reader is chapter 07's lesson, copied forward; any checkpoint's copy will do.
+if(EXISTS ${_bvh_dir}/obj_loader.cpp)
+  set(_bvh_obj_dir ${_bvh_dir})
+else()
+  set(_bvh_obj_dir ${CMAKE_SOURCE_DIR}/chapters/07_obj_teapot)
+endif()
+
+foreach(test test_bvh test_bvh_gpu)
+  add_unit_test(${test} ${test}.cpp ${_bvh_dir}/bvh.cpp ${_bvh_obj_dir}/obj_loader.cpp)
+  target_include_directories(${test} PRIVATE ${_bvh_dir} ${_bvh_obj_dir}
+    ${CMAKE_SOURCE_DIR}/shaders/11_bvh)
+  target_compile_definitions(${test} PRIVATE
+    COURSE_GENERATED_ASSET_DIR="${COURSE_GENERATED_ASSET_DIR}")
+  target_compile_options(${test} PRIVATE -Wall -Wextra)
+  add_dependencies(${test} course_assets course_benchmark_assets)
+endforeach()
+unset(_bvh_dir)
+unset(_bvh_obj_dir)

@@ -1,0 +1,284 @@
+// shaders/11_bvh/bvh_traversal.glsl on the GPU (headless llvmpipe here): it compiles,
+// and for thousands of rays against trees from buildBvh() it finds the same hits as the
+// C++ port of it in bvh_test_support.h, which test_bvh checks against brute force. Also
+// measures the traversal's loop iterations per ray: llvmpipe ends an invocation after
+// 65535 in all, silently.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <numeric>
+
+#include "bvh_test_support.h"
+#include "course/gl_context.h"
+#include "course/gpu_buffer.h"
+#include "course/shader_program.h"
+
+using namespace bvh_test;
+
+namespace {
+
+// The structs of tests/data/bvh/traversal_test.comp, std430.
+struct RayQuery {
+    glm::vec4 origin, direction;
+    glm::vec4 limits;  // tMin, tMax (nearest), tMax (any)
+};
+struct RayResult {
+    uint32_t found, triangle;
+    float t;
+    uint32_t anyFound;
+    glm::vec2 uv;
+    uint32_t iterations, anyIterations;
+};
+static_assert(sizeof(RayQuery) == 48 && sizeof(RayResult) == 32, "std430");
+static_assert(offsetof(RayResult, uv) == 16 && offsetof(RayResult, iterations) == 24, "std430");
+
+// llvmpipe runs 8 invocations in lockstep (256-bit vectors of 32-bit lanes), and its
+// loop limit counts the iterations of the group: the slowest of the 8 decides.
+constexpr size_t kLockstep = 8;
+constexpr uint32_t kLlvmpipeLoopLimit = 65535;
+
+struct Summary {
+    size_t rays = 0, hits = 0, ties = 0, mismatches = 0;
+    double meanIterations = 0.0;
+    uint32_t maxIterations = 0;    // one ray, nearest-hit query
+    uint32_t maxAnyIterations = 0; // one ray, any-hit query
+    uint32_t maxLockstep = 0;      // the slowest of 8 neighbours, both queries
+};
+
+class BvhGpuTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        course::Options options;
+        options.backend = course::Backend::Egl;
+        context = course::createGlContext(options, {4, 3}, "test");
+        renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    }
+
+    course::ShaderProgram program() {
+        // The test shader lives with the test data; its includes are the chapter's.
+        return course::ShaderProgram::compute(COURSE_SOURCE_DIR "/shaders/11_bvh",
+                                              "../../tests/data/bvh/traversal_test.comp");
+    }
+
+    // Runs the rays on the GPU, `repeats` times each; returns the results.
+    std::vector<RayResult> runOnGpu(const Bvh& bvh, const TestMesh& leafOrder,
+                                    const std::vector<RayQuery>& queries,
+                                    uint32_t repeats = 1,
+                                    std::vector<uint32_t>* completed = nullptr) {
+        std::vector<glm::vec4> positions;
+        for (const glm::vec3& p : leafOrder.positions) positions.emplace_back(p, 1.0f);
+        if (positions.empty()) positions.emplace_back(0.0f);  // no empty buffers
+        std::vector<glm::uvec4> triangles;
+        for (size_t i = 0; i < leafOrder.triangleCount(); ++i)
+            triangles.emplace_back(leafOrder.indices[3 * i], leafOrder.indices[3 * i + 1],
+                                   leafOrder.indices[3 * i + 2], 0u);
+        if (triangles.empty()) triangles.emplace_back(0u);
+        auto nodeBuffer = course::GpuBuffer::fromVector(bvh.nodes);
+        auto positionBuffer = course::GpuBuffer::fromVector(positions);
+        auto triangleBuffer = course::GpuBuffer::fromVector(triangles);
+        auto queryBuffer = course::GpuBuffer::fromVector(queries);
+        course::GpuBuffer resultBuffer(queries.size() * sizeof(RayResult));
+        course::GpuBuffer completedBuffer(queries.size() * sizeof(uint32_t));
+        nodeBuffer.bindStorage(0);
+        positionBuffer.bindStorage(1);
+        triangleBuffer.bindStorage(2);
+        queryBuffer.bindStorage(3);
+        resultBuffer.bindStorage(4);
+        completedBuffer.bindStorage(5);
+        course::ShaderProgram& shader = compiled();
+        shader.use();
+        shader.set("repeats", repeats);
+        shader.dispatchCovering(int(queries.size()));
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        if (completed) *completed = completedBuffer.readAll<uint32_t>();
+        return resultBuffer.readAll<RayResult>();
+    }
+
+    course::ShaderProgram& compiled() {
+        if (!shader_.id()) shader_ = program();
+        return shader_;
+    }
+
+    // The rays of testRays(), their limits, the GPU's answers and the C++ traversal's;
+    // returns what agreed and how many loop iterations it took.
+    Summary compare(const TestMesh& mesh, size_t rayCount, uint64_t seed,
+                    const BvhOptions& options = {}) {
+        SCOPED_TRACE(mesh.name);
+        Bvh bvh = buildBvh(mesh.positions, mesh.indices, options);
+        TestMesh leafOrder = reordered(mesh, bvh);
+        Bounds bounds = boundsOf(mesh);
+        const float scale = std::max(1.0f, glm::length(bounds.max - bounds.min));
+        const float tMin = 1e-5f * scale;
+        std::vector<Ray> rays = testRays(mesh, rayCount, seed);
+        std::vector<RayQuery> queries;
+        std::vector<RayHit> expected;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const Ray& ray = rays[i];
+            RayHit hit = traverse(bvh, leafOrder, ray, tMin, 1e30f, false);
+            expected.push_back(hit);
+            // Any hit: half the rays ask "anything before the nearest hit?" (a shadow ray
+            // to a point just short of it: no), the others "anything at all?".
+            float anyTMax = (i % 2 == 0 && hit.found) ? 0.999f * hit.t : 1e30f;
+            queries.push_back({glm::vec4(ray.origin, 0.0f), glm::vec4(ray.direction, 0.0f),
+                               glm::vec4(tMin, 1e30f, anyTMax, 0.0f)});
+        }
+        std::vector<RayResult> results = runOnGpu(bvh, leafOrder, queries);
+
+        Summary summary;
+        summary.rays = rays.size();
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const RayResult& got = results[i];
+            const RayHit& want = expected[i];
+            const RayQuery& query = queries[i];
+            bool wantAny = traverse(bvh, leafOrder, rays[i], tMin, query.limits.z, true).found;
+            bool agree = bool(got.found) == want.found && bool(got.anyFound) == wantAny;
+            if (agree && want.found) {
+                ++summary.hits;
+                float tolerance = 1e-5f * std::max(1.0f, want.t);
+                agree = std::abs(got.t - want.t) <= tolerance &&
+                        got.triangle < mesh.triangleCount();
+                if (agree && got.triangle != want.triangle) {
+                    // A tie: the GPU's triangle is hit at the same distance (shared edge).
+                    float t;
+                    glm::vec2 uv;
+                    agree =
+                        hitMeshTriangle(leafOrder, got.triangle, rays[i], tMin, 1e30f, t, uv) &&
+                        std::abs(t - want.t) <= tolerance;
+                    ++summary.ties;
+                }
+            }
+            if (!agree) {
+                ++summary.mismatches;
+                if (summary.mismatches <= 5)
+                    std::cout << "mismatch: ray " << i << ": GPU found " << got.found
+                              << " triangle " << got.triangle << " t " << got.t << " any "
+                              << got.anyFound << "; C++ found " << want.found << " triangle "
+                              << want.triangle << " t " << want.t << " any " << wantAny
+                              << "\n";
+            }
+            summary.meanIterations += got.iterations;
+            summary.maxIterations = std::max(summary.maxIterations, got.iterations);
+            summary.maxAnyIterations = std::max(summary.maxAnyIterations, got.anyIterations);
+        }
+        summary.meanIterations /= double(std::max<size_t>(1, rays.size()));
+        // The slowest of each 8 neighbours, as the group runs its two loops in lockstep.
+        for (size_t group = 0; group < rays.size(); group += kLockstep) {
+            uint32_t nearest = 0, any = 0;
+            for (size_t i = group; i < std::min(rays.size(), group + kLockstep); ++i) {
+                nearest = std::max(nearest, results[i].iterations);
+                any = std::max(any, results[i].anyIterations);
+            }
+            summary.maxLockstep = std::max(summary.maxLockstep, nearest + any);
+        }
+        // llvmpipe and the CPU agree on every ray. Another GPU may round differently
+        // (fused multiply-adds) and see a ray that grazes an edge otherwise: a few.
+        EXPECT_LE(summary.mismatches, summary.rays / 2000) << mesh.name;
+        std::cout << mesh.name << " (" << mesh.triangleCount() << " triangles, "
+                  << describeBvh(bvh.stats) << "): " << summary.rays << " rays, "
+                  << summary.hits << " hits, " << summary.ties << " ties, "
+                  << summary.mismatches << " mismatches; loop iterations per ray: nearest "
+                  << summary.meanIterations << " mean, " << summary.maxIterations
+                  << " max; any " << summary.maxAnyIterations << " max; lockstep group of "
+                  << kLockstep << " both queries " << summary.maxLockstep << " max\n";
+        return summary;
+    }
+
+    std::unique_ptr<course::GlContext> context;
+    std::string renderer;
+    course::ShaderProgram shader_;
+};
+
+}  // namespace
+
+TEST_F(BvhGpuTest, TraversalShaderCompiles) {
+    course::ShaderProgram shader = program();
+    EXPECT_NE(shader.id(), 0u);
+    EXPECT_EQ(shader.workGroupSize().x, 64);
+}
+
+TEST_F(BvhGpuTest, GpuFindsWhatTheCppTraversalFinds) {
+    std::vector<TestMesh> meshes = {randomSoup(2000, 21), flatGrid(24)};
+    TestMesh one{"one_triangle"};
+    one.add({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    meshes.push_back(one);
+    meshes.push_back(TestMesh{"empty"});
+    for (const char* name : {"teapot_552", "teapot_6320"}) {
+        TestMesh teapot = loadTeapot(name);
+        EXPECT_FALSE(teapot.positions.empty()) << name << ".obj: build course_assets";
+        if (!teapot.positions.empty()) meshes.push_back(teapot);
+    }
+    for (const TestMesh& mesh : meshes) {
+        Summary summary = compare(mesh, 8192, 99);
+        EXPECT_LT(summary.maxLockstep, kLlvmpipeLoopLimit / 20) << mesh.name;
+    }
+}
+
+// A tree at the depth limit: the longest stack, many pops.
+TEST_F(BvhGpuTest, DeepTreesTraverseCorrectly) {
+    TestMesh chain = peelingChain(80);
+    BvhOptions twoBins;  // the SAH alone would make it 79 deep
+    twoBins.binCount = 2;
+    ASSERT_EQ(buildBvh(chain.positions, chain.indices, twoBins).stats.maxDepth, BVH_MAX_DEPTH);
+    Summary summary = compare(chain, 4096, 5, twoBins);
+    EXPECT_GT(summary.hits, 1000u);
+}
+
+// A leaf's triangles are tested one after the other, written out, not in a loop, so
+// llvmpipe's limit counts only the traversal loop's iterations. Rays that enter every
+// leaf of 2000 stacked copies of one triangle but miss them all test every triangle;
+// repeat them until the traversal loops come close to 65535 iterations (with the
+// triangle tests it would be far beyond) and check that every repetition ran to the end.
+TEST_F(BvhGpuTest, OnlyTheTraversalLoopCountsTowardsTheLimit) {
+    if (renderer.find("llvmpipe") == std::string::npos)
+        GTEST_SKIP() << "not llvmpipe: " << renderer;
+    TestMesh mesh{"stacked"};
+    for (int i = 0; i < 2000; ++i) mesh.add({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    Bvh bvh = buildBvh(mesh.positions, mesh.indices);
+    TestMesh leafOrder = reordered(mesh, bvh);
+    // Through the box [0,1]^2 x {0}, beside the triangle's long edge: a miss, everywhere.
+    Ray ray{{0.9f, 0.9f, -1.0f}, {0.0f, 0.0f, 1.0f}};
+    TraversalCount nearest, any;
+    EXPECT_FALSE(traverse(bvh, leafOrder, ray, 1e-5f, 1e30f, false, &nearest).found);
+    traverse(bvh, leafOrder, ray, 1e-5f, 1e30f, true, &any);
+    EXPECT_EQ(nearest.triangleTests, 2000);
+    const int iterations = nearest.loopIterations + any.loopIterations + 1;  // + repeat loop
+    const int triangleTests = nearest.triangleTests + any.triangleTests;
+    const uint32_t repeats = uint32_t(0.9 * kLlvmpipeLoopLimit / iterations);
+    ASSERT_GT(uint64_t(repeats) * (iterations + triangleTests),
+              2 * uint64_t(kLlvmpipeLoopLimit))
+        << "the triangle tests would not push past the limit: the test proves nothing";
+    // One group of invocations that llvmpipe runs in lockstep.
+    std::vector<RayQuery> queries(kLockstep, {glm::vec4(ray.origin, 0.0f),
+                                              glm::vec4(ray.direction, 0.0f),
+                                              glm::vec4(1e-5f, 1e30f, 1e30f, 0.0f)});
+    std::vector<uint32_t> completed;
+    std::vector<RayResult> results = runOnGpu(bvh, leafOrder, queries, repeats, &completed);
+    for (size_t i = 0; i < queries.size(); ++i) {
+        EXPECT_EQ(completed[i], repeats) << "invocation " << i << ": cut off by llvmpipe";
+        EXPECT_EQ(results[i].iterations, uint32_t(nearest.loopIterations));
+    }
+    std::cout << repeats << " repetitions of " << iterations << " loop iterations and "
+              << triangleTests << " triangle tests each ran to the end: "
+              << repeats * iterations << " loop iterations counted, "
+              << repeats * (iterations + triangleTests) << " if triangle tests counted\n";
+    // And past the limit, llvmpipe does cut the loops short: the test can see it.
+    const uint32_t tooMany = uint32_t(1.2 * kLlvmpipeLoopLimit / iterations);
+    runOnGpu(bvh, leafOrder, queries, tooMany, &completed);
+    EXPECT_LT(completed[0], tooMany) << "llvmpipe no longer limits loops?";
+}
+
+// The big teapots, when they are there (course_benchmark_assets or COURSE_BVH_MESH_DIR).
+TEST_F(BvhGpuTest, BigTeapots) {
+    bool any = false;
+    for (const char* name : {"teapot_102080", "teapot_1015056"}) {
+        TestMesh teapot = loadTeapot(name);
+        if (teapot.positions.empty()) continue;
+        any = true;
+        Summary summary = compare(teapot, 8192, 4321);
+        EXPECT_LT(summary.maxLockstep, kLlvmpipeLoopLimit / 20) << name;
+    }
+    // The build makes them for these tests (bvh_tests.cmake): missing is a failure.
+    ASSERT_TRUE(any) << "no big teapots in " << meshDir();
+}
