@@ -125,6 +125,7 @@ def cmd_list(args):
 # need samples to look like their book page (about half a minute on llvmpipe).
 SHOWCASE_OPTIONS = {
     "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
+    "A1_gl33_fragment": ["--width", "400", "--height", "400", "--spp", "64"],
 }
 
 
