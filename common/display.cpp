@@ -9,17 +9,28 @@ namespace course {
 namespace {
 
 // Three vertices from gl_VertexID, no vertex buffer: a triangle twice the size of the
-// screen, clipped to exactly cover it.
-const char* kVertexShader = R"(#version 430 core
+// screen, clipped to exactly cover it. (GLSL 3.30 and 4.30 read it alike.)
+const char* kVertexShader = R"(
 void main() {
     vec2 corner = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
     gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 }
 )";
 
-const char* kFragmentShader = R"(#version 430 core
+// How the fragment shader reads a pixel: from the storage buffer itself (GL 4.3), or,
+// on the GL 3.3 appendix's contexts, from a texture the buffer was copied into.
+const char* kReadFromBuffer = R"(
 layout(std430, binding = 15) readonly buffer ImagePixels { vec4 pixels[]; };
 uniform ivec2 imageSize;
+vec4 readPixel(ivec2 pixel) { return pixels[pixel.y * imageSize.x + pixel.x]; }
+)";
+const char* kReadFromTexture = R"(
+uniform sampler2D image;  // texture row 0 is the image's top row, as in the buffer
+uniform ivec2 imageSize;
+vec4 readPixel(ivec2 pixel) { return texelFetch(image, pixel, 0); }
+)";
+
+const char* kFragmentShader = R"(
 uniform ivec4 viewport;   // where the image lands: x, y, width, height
 uniform float scale;
 out vec4 fragmentColor;
@@ -38,21 +49,31 @@ void main() {
     // GL's window y grows upwards, the image's rows go downwards.
     ivec2 pixel = ivec2(inView.x * imageSize.x, (1.0 - inView.y) * imageSize.y);
     pixel = min(pixel, imageSize - 1);
-    vec3 linear = pixels[pixel.y * imageSize.x + pixel.x].rgb * scale;
+    vec3 linear = readPixel(pixel).rgb * scale;
     fragmentColor = vec4(linearToSrgb(linear), 1.0);
 }
 )";
 
 }  // namespace
 
-ImageDisplay::ImageDisplay() {
-    program_ = buildProgramFromText(
-        {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, kFragmentShader}},
-        "common/display.cpp");
+ImageDisplay::ImageDisplay() : fromTexture_(!GLAD_GL_VERSION_4_3) {
+    const std::string version = fromTexture_ ? "#version 330 core\n" : "#version 430 core\n";
+    const char* read = fromTexture_ ? kReadFromTexture : kReadFromBuffer;
+    program_ = buildProgramFromText({{GL_VERTEX_SHADER, version + kVertexShader},
+                                     {GL_FRAGMENT_SHADER, version + read + kFragmentShader}},
+                                    "common/display.cpp");
     glGenVertexArrays(1, &emptyVertexArray_);
+    if (fromTexture_) {
+        glGenTextures(1, &texture_);
+        glBindTexture(GL_TEXTURE_2D, texture_);
+        // No mipmaps: without these the texture counts as incomplete and reads as black.
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
 }
 
 ImageDisplay::~ImageDisplay() {
+    if (texture_) glDeleteTextures(1, &texture_);
     glDeleteVertexArrays(1, &emptyVertexArray_);
     glDeleteProgram(program_);
 }
@@ -70,9 +91,22 @@ void ImageDisplay::draw(const ImageBuffer& image, int framebufferWidth,
     glUniform2i(glGetUniformLocation(program_, "imageSize"), image.width, image.height);
     glUniform4i(glGetUniformLocation(program_, "viewport"), x, y, width, height);
     glUniform1f(glGetUniformLocation(program_, "scale"), scale);
-    // The compute shader's writes must land before the fragment shader reads them.
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDisplayImageBinding, image.pixels.id());
+    if (!fromTexture_) {
+        // The compute shader's writes must land before the fragment shader reads them.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDisplayImageBinding, image.pixels.id());
+    } else {
+        // GL 3.3: the buffer is copied into the texture on the GPU. With a buffer bound
+        // to GL_PIXEL_UNPACK_BUFFER, glTexImage2D reads from it, and its last argument
+        // is an offset into the buffer instead of a pointer.
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, texture_);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, image.pixels.id());
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, image.width, image.height, 0, GL_RGBA,
+                     GL_FLOAT, nullptr);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glUniform1i(glGetUniformLocation(program_, "image"), 0);
+    }
     glBindVertexArray(emptyVertexArray_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

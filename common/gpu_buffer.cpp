@@ -7,11 +7,14 @@
 
 namespace course {
 
+// Creating, filling and reading a buffer binds it to GL_COPY_WRITE_BUFFER (GL 3.1), a
+// target that implies no use: GL_SHADER_STORAGE_BUFFER would not exist on the GL 3.3
+// appendix's contexts, which use the same buffers as pixel buffers.
 GpuBuffer::GpuBuffer(size_t bytes, const void* initialData) : bytes_(bytes) {
     glGenBuffers(1, &id_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
     // GL_DYNAMIC_COPY: written and read by the GPU, copied back now and then.
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), initialData,
+    glBufferData(GL_COPY_WRITE_BUFFER, static_cast<GLsizeiptr>(bytes), initialData,
                  GL_DYNAMIC_COPY);
     if (glGetError() == GL_OUT_OF_MEMORY)
         fail(ExitCode::GlProblem, "out of GPU memory allocating a buffer of " +
@@ -45,16 +48,17 @@ void GpuBuffer::bindStorage(GLuint binding) const {
 }
 
 void GpuBuffer::write(const void* data, size_t bytes, size_t offset) {
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+    glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
+    glBufferSubData(GL_COPY_WRITE_BUFFER, static_cast<GLintptr>(offset),
                     static_cast<GLsizeiptr>(bytes), data);
 }
 
 void GpuBuffer::read(void* data, size_t bytes, size_t offset) const {
-    // Shader writes must be visible to the copy that follows.
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offset),
+    // Compute shader writes must be visible to the copy that follows. (Before GL 4.2
+    // no shader writes to buffers, and GL orders everything else itself.)
+    if (GLAD_GL_VERSION_4_2) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
+    glGetBufferSubData(GL_COPY_WRITE_BUFFER, static_cast<GLintptr>(offset),
                        static_cast<GLsizeiptr>(bytes), data);
 }
 

@@ -40,6 +40,11 @@ ShaderProgram& Session::loadCompute(const std::string& fileName) {
     return programs_.back();
 }
 
+ShaderProgram& Session::loadProgram(const std::vector<ShaderStage>& stages) {
+    programs_.push_back(ShaderProgram(shaderDir_, stages));
+    return programs_.back();
+}
+
 // Waits until the GPU has finished everything queued so far, but not forever: on a GPU a
 // shader that never leaves its loop would hang the program (llvmpipe cuts such loops
 // off itself). COURSE_GPU_TIMEOUT_SECONDS overrides the limit.

@@ -138,30 +138,57 @@ bool ShaderProgram::reloadIfChanged() {
     }
 }
 
-void ShaderProgram::set(const char* name, int value) const {
-    glProgramUniform1i(id_, glGetUniformLocation(id_, name), value);
-}
-void ShaderProgram::set(const char* name, unsigned value) const {
-    glProgramUniform1ui(id_, glGetUniformLocation(id_, name), value);
-}
-void ShaderProgram::set(const char* name, float value) const {
-    glProgramUniform1f(id_, glGetUniformLocation(id_, name), value);
-}
-void ShaderProgram::set(const char* name, const glm::vec2& value) const {
-    glProgramUniform2fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
-}
-void ShaderProgram::set(const char* name, const glm::vec3& value) const {
-    glProgramUniform3fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
-}
-void ShaderProgram::set(const char* name, const glm::vec4& value) const {
-    glProgramUniform4fv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
-}
-void ShaderProgram::set(const char* name, const glm::ivec2& value) const {
-    glProgramUniform2iv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+// GL 4.1 sets a uniform of any program (glProgramUniform*). Before 4.1, on the GL 3.3
+// appendix's contexts, only the program in use takes uniforms (glUniform*): this puts
+// the program in use for the call and then puts back the one that was, so both ways
+// leave the same state behind.
+template <class Direct, class InUse>
+static void setUniform(GLuint program, const char* name, Direct direct, InUse inUse) {
+    GLint location = glGetUniformLocation(program, name);
+    if (GLAD_GL_VERSION_4_1) return direct(program, location);
+    GLint current = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    if (GLuint(current) != program) glUseProgram(program);
+    inUse(location);
+    if (GLuint(current) != program) glUseProgram(GLuint(current));
 }
 
+void ShaderProgram::set(const char* name, int value) const {
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1i(p, at, value); },
+               [&](GLint at) { glUniform1i(at, value); });
+}
+void ShaderProgram::set(const char* name, unsigned value) const {
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1ui(p, at, value); },
+               [&](GLint at) { glUniform1ui(at, value); });
+}
+void ShaderProgram::set(const char* name, float value) const {
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1f(p, at, value); },
+               [&](GLint at) { glUniform1f(at, value); });
+}
+void ShaderProgram::set(const char* name, const glm::vec2& value) const {
+    const float* v = glm::value_ptr(value);
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2fv(p, at, 1, v); },
+               [&](GLint at) { glUniform2fv(at, 1, v); });
+}
+void ShaderProgram::set(const char* name, const glm::vec3& value) const {
+    const float* v = glm::value_ptr(value);
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform3fv(p, at, 1, v); },
+               [&](GLint at) { glUniform3fv(at, 1, v); });
+}
+void ShaderProgram::set(const char* name, const glm::vec4& value) const {
+    const float* v = glm::value_ptr(value);
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform4fv(p, at, 1, v); },
+               [&](GLint at) { glUniform4fv(at, 1, v); });
+}
+void ShaderProgram::set(const char* name, const glm::ivec2& value) const {
+    const int* v = glm::value_ptr(value);
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2iv(p, at, 1, v); },
+               [&](GLint at) { glUniform2iv(at, 1, v); });
+}
 void ShaderProgram::set(const char* name, const glm::uvec2& value) const {
-    glProgramUniform2uiv(id_, glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+    const unsigned* v = glm::value_ptr(value);
+    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2uiv(p, at, 1, v); },
+               [&](GLint at) { glUniform2uiv(at, 1, v); });
 }
 
 glm::ivec3 ShaderProgram::workGroupSize() const {

@@ -126,6 +126,7 @@ def cmd_list(args):
 SHOWCASE_OPTIONS = {
     "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
     "11_bvh": ["--width", "320", "--height", "320", "--spp", "48"],
+    "A1_gl33_fragment": ["--width", "400", "--height", "400", "--spp", "64"],
 }
 
 
@@ -388,10 +389,23 @@ def render_book_figures(draft: bool = False):
                        *(draft_arguments(options) if draft else options)]
         say(f"figure {figure}")
         run_checked(command, cwd=ROOT, stdout=subprocess.DEVNULL)
-    names = chapters()
-    for a, b in zip(names, names[1:]):
+    for a, b in book_diff_pairs():
         lines = [l for _, d in checkpoint_diff(a, b) for l in d]
         (GENERATED / f"diff_{a[:2]}_{b[:2]}.diff").write_text("\n".join(lines) + "\n")
+
+
+# An appendix starts as a copy of a numbered chapter, not of whatever comes before it in
+# CMakeLists.txt: the book shows its diff against that chapter (diff_10_A1.diff).
+APPENDIX_BASES = {"A1_gl33_fragment": "10_path_tracing"}
+
+
+def book_diff_pairs() -> list[tuple[str, str]]:
+    """(from, to) of every diff the book includes: each numbered chapter against the
+    one before it, each appendix against the chapter it was copied from."""
+    names = chapters()
+    numbered = [name for name in names if name[:2].isdigit()]
+    pairs = list(zip(numbered, numbered[1:]))
+    return pairs + [(APPENDIX_BASES[name], name) for name in names if name in APPENDIX_BASES]
 
 
 def cmd_book(args):

@@ -42,6 +42,9 @@ public:
     // Compiles a compute shader from the checkpoint's shader folder. The session keeps
     // it, so window mode can hot-reload it; the reference stays valid.
     ShaderProgram& loadCompute(const std::string& fileName);
+    // The same for a program of several stages, e.g. a fragment and a vertex shader
+    // (the GL 3.3 appendix draws instead of dispatching). Messages name the first.
+    ShaderProgram& loadProgram(const std::vector<ShaderStage>& stages);
 
     // Runs `render`, waits for the GPU, and records wall_ms and gpu_ms.
     void timeRender(const std::function<void()>& render);

@@ -27,12 +27,15 @@ RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
 def pytest_configure(config):
     for number in range(1, 20):
         config.addinivalue_line("markers", f"chapter{number:02d}: checks of chapter {number:02d}")
+    for number in range(1, 10):  # appendices: A1, A2, ...
+        config.addinivalue_line("markers", f"chapterA{number}: checks of appendix A{number}")
 
 
 def pytest_collection_modifyitems(items):
-    # test_02_first_pixels.py -> marker chapter02, so ./course test 02 selects it.
+    # test_02_first_pixels.py -> marker chapter02, so ./course test 02 selects it
+    # (test_A1_gl33_fragment.py -> chapterA1: ./course test A1).
     for item in items:
-        match = re.match(r"test_(\d\d)_", Path(str(item.fspath)).name)
+        match = re.match(r"test_(\d\d|A\d)_", Path(str(item.fspath)).name)
         if match:
             item.add_marker(getattr(pytest.mark, f"chapter{match.group(1)}"))
 

@@ -6,6 +6,7 @@ row asserts the exit code, that the message names the culprit, and that no outpu
 from __future__ import annotations
 
 import os
+import re
 import stat
 import time
 from dataclasses import dataclass
@@ -15,7 +16,9 @@ import pytest
 
 from conftest import BIN, copy_shaders, run_chapter
 
-CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit())
+# Numbered chapters and appendices (A1_gl33_fragment: "A1").
+CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir()
+                  if p.name[:2].isdigit() or re.fullmatch(r"A\d", p.name[:2]))
 
 
 def help_text(chapter: str) -> str:
@@ -101,9 +104,10 @@ def test_existing_output_is_never_truncated_by_a_failure(tmp_path, chapter):
 
 def insert_after_main(shaders: Path, line_text: str) -> list[str]:
     """Inserts `line_text` as the first line of main() in every compute shader of the
-    chapter (whichever the program loads first must fail); returns "file:line" of each."""
+    chapter, or fragment shader of an appendix (whichever the program loads first must
+    fail); returns "file:line" of each."""
     places = []
-    for shader in sorted(shaders.glob("*.comp")):
+    for shader in sorted([*shaders.glob("*.comp"), *shaders.glob("*.frag")]):
         lines = shader.read_text().splitlines()
         mains = [i for i, line in enumerate(lines) if "void main()" in line]
         if not mains:

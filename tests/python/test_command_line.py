@@ -1,6 +1,8 @@
 """The command line every chapter shares: bad usage is exit code 2 with a message and
 writes nothing; a GL that is too old is exit code 4 with the way out."""
 
+import re
+
 import pytest
 
 from conftest import BIN, ROOT, run_chapter
@@ -8,6 +10,8 @@ from conftest import BIN, ROOT, run_chapter
 IMAGE_CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit()
                         and p.name[:2] != "01")
 ALL_CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit())
+# Appendices (A1: GL 3.3) share the command line, but not the 4.3 floor.
+APPENDICES = sorted(p.name[:2] for p in BIN.iterdir() if re.fullmatch(r"A\d", p.name[:2]))
 
 BAD_USAGE = [
     (["--width", "0"], "--width must be between 1 and 16384"),
@@ -25,7 +29,7 @@ BAD_USAGE = [
 ]
 
 
-@pytest.mark.parametrize("chapter", IMAGE_CHAPTERS)
+@pytest.mark.parametrize("chapter", IMAGE_CHAPTERS + APPENDICES)
 @pytest.mark.parametrize("args,message", BAD_USAGE, ids=[" ".join(a) for a, _ in BAD_USAGE])
 def test_bad_usage_is_exit_2(tmp_path, chapter, args, message):
     result = run_chapter(chapter, "--headless", *args)
@@ -34,7 +38,7 @@ def test_bad_usage_is_exit_2(tmp_path, chapter, args, message):
     assert list(tmp_path.iterdir()) == []  # nothing written
 
 
-@pytest.mark.parametrize("chapter", ALL_CHAPTERS)
+@pytest.mark.parametrize("chapter", ALL_CHAPTERS + APPENDICES)
 def test_help_lists_the_shared_options(chapter):
     result = run_chapter(chapter, "--help")
     assert result.returncode == 0

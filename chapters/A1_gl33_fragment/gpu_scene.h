@@ -1,0 +1,29 @@
+// A scene file (scene_file.h) turned into what the shaders read: the shapes as texels
+// of one buffer texture (spheres, quads, triangles, meshes included and placed in the
+// world), and the materials and the emitters that next-event estimation samples as one
+// uniform block.
+#pragma once
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene_file.h"
+#include "shared.h"  // the texel layout and gpu::SceneBlock, as the shaders read them
+
+struct GpuScene {
+    std::vector<glm::vec4> texels;  // SPHERE_TEXELS per sphere, then quads, triangles
+    std::unique_ptr<gpu::SceneBlock> block = std::make_unique<gpu::SceneBlock>();
+    float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
+
+    size_t shapeCount() const {
+        return size_t(block->shapeCounts.x) + block->shapeCounts.y + block->shapeCounts.z;
+    }
+};
+
+// Loads the scene's meshes (chapter 07's OBJ loader; exit code 3 with file:line) and
+// packs everything. More materials or emitters than the uniform block holds
+// (MAX_MATERIALS, MAX_EMITTERS) is exit code 3, naming the scene file.
+GpuScene packScene(const SceneFile& scene);

@@ -1,0 +1,150 @@
+// Appendix A1: chapter 10's path tracer on OpenGL 3.3, for machines without compute
+// shaders (macOS stops at 4.1). A fragment shader draws one sample per pixel per pass
+// over a fullscreen triangle; the shapes are in a buffer texture, the materials and
+// lights in a uniform buffer, and two framebuffers take turns holding the running mean.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <numeric>
+#include <string>
+
+#include "accumulation.h"
+#include "camera.h"
+#include "course/fly_camera.h"
+#include "course/session.h"
+#include "gpu_scene.h"
+#include "loop_budget.h"
+#include "scene_buffers.h"
+#include "scene_file.h"
+#include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
+
+// --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
+// 2); anything with a '/' or '.' is a file (its mistakes are exit code 3).
+std::string scenePath(course::Session& session, const std::string& scene) {
+    if (scene.find_first_of("/.") != std::string::npos) return scene;
+    std::string path = session.assetPath("scenes/" + scene + ".scene");
+    if (!std::filesystem::exists(path))
+        course::fail(course::ExitCode::BadUsage, "unknown scene '" + scene + "': no " + path);
+    return path;
+}
+
+int main(int argc, char** argv) {
+    course::CommandLine cli("Appendix A1: the path tracer as an OpenGL 3.3 fragment shader");
+    cli.acceptScene();  // --scene NAME|FILE, default cornell_spheres
+    int depth = 6, batches = 1, frameSamples = 4;
+    cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
+               1, 1000);
+    bool direct = false;
+    cli.flag("--direct", "direct illumination only: the same as --depth 1", &direct);
+    std::string estimator = "mis";
+    cli.choice("--estimator", "how light reaching a surface is found",
+               {"nee", "bsdf", "mis"}, &estimator);
+    cli.option("--batches", "B", "render --spp in B groups of passes, waiting for "
+               "the GPU between them (the same image)", &batches, 1, 1 << 20);
+    cli.option("--frame-samples", "N", "window mode: samples added per frame", &frameSamples,
+               1, 64);
+    bool scriptCameraMove = false;
+    cli.flag("--script-camera-move", "window mode: step forward at frame 2 (tests)",
+             &scriptCameraMove);
+    const course::GlVersion gl33{3, 3};  // no compute shaders, no storage buffers
+    return course::run(cli, argc, argv, [&](course::Session& session) {
+        const course::Options& options = session.options();
+        const int width = options.width, height = options.height;
+        if (direct) depth = 1;
+
+        // 1. The scene file, its meshes, and the packed texels and uniform block (exit
+        //    code 3 on mistakes, or when the block's arrays are too small).
+        const std::string& sceneOption = options.scene.empty() ? "cornell_spheres"
+                                                               : options.scene;
+        SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
+                                            {COURSE_GENERATED_ASSET_DIR});
+        GpuScene scene = packScene(sceneFile);
+        // Each bounce tests every shape twice (nearest hit, shadow ray): llvmpipe's
+        // loop limit caps shapes x bounces (chapter 07), for fragment shaders too.
+        checkLoopBudget(scene.shapeCount() * (size_t(depth) + 1), sceneFile.path);
+        session.stats().set("shapes", double(scene.shapeCount()));
+        session.stats().set("emitters", double(scene.block->shapeCounts.w));
+
+        // --8<-- [start:upload]
+        // 2. The scene in a buffer texture and a uniform buffer; the two framebuffers
+        //    that take turns; the image buffer the session writes or shows.
+        SceneBuffers sceneBuffers(scene, sceneFile.path);
+        Accumulation accumulation(width, height);
+        course::ImageBuffer image(width, height);
+        // --8<-- [end:upload]
+
+        // --8<-- [start:passes]
+        // 3. Chapter 10's seeding and progressive loop, a pass where it had a dispatch.
+        //    The uniforms are set for every pass: a hot-reloaded program starts without
+        //    them, and the fly camera may have moved.
+        course::ShaderProgram& seed = session.loadProgram(
+            {{GL_FRAGMENT_SHADER, "seed.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
+        course::ShaderProgram& path = session.loadProgram(
+            {{GL_FRAGMENT_SHADER, "path.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
+        const SceneCamera& c = sceneFile.camera;
+        course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
+        const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
+                                : estimator == "bsdf" ? ESTIMATOR_BSDF
+                                                      : ESTIMATOR_MIS;
+        unsigned samples = 0;
+        auto addSample = [&] {
+            setCamera(path, makeCamera(fly.eye, fly.forward(), c.up, c.focalLength,
+                                       c.sensorWidth));
+            path.set("imageSize", glm::uvec2(width, height));
+            path.set("maxBounces", depth);
+            path.set("estimator", estimatorId);
+            path.set("sampleIndex", samples++);
+            sceneBuffers.bind(path);
+            accumulation.draw(path);  // no barrier: GL orders draws and texture reads
+        };
+        auto render = [&] {
+            seed.set("imageSize", glm::uvec2(width, height));
+            seed.set("seed", unsigned(options.seed));
+            accumulation.draw(seed);
+            samples = 0;
+            for (int batch = 0; batch < batches; ++batch) {
+                int end = options.spp * (batch + 1) / batches;  // --batches: the same
+                while (int(samples) < end) addSample();         // passes, the GPU
+                course::waitForGpu();                           // idle in between
+            }
+            accumulation.copyMeanTo(image);
+        };
+        // --8<-- [end:passes]
+
+        // 4. Render --spp samples; headless, write the image (PFM: the linear mean;
+        //    PNG: clamped to [0, 1] and sRGB-encoded).
+        session.timeRender(render);
+
+        // --8<-- [start:window]
+        // 5. Window: a few samples each frame, so the picture keeps up with the camera;
+        //    moving the camera starts over.
+        glm::dvec2 lastCursor(-1.0);
+        auto lastFrame = std::chrono::steady_clock::now();
+        auto eachFrame = [&](int frame) {
+            auto now = std::chrono::steady_clock::now();
+            float seconds = std::chrono::duration<float>(now - lastFrame).count();
+            lastFrame = now;
+            course::FlyInput input =
+                course::readFlyInput(session.context().window(), lastCursor, seconds);
+            if (scriptCameraMove && frame == 2) input = {{0, 0, 1}, {0, 0}, 1.0f};
+            if (fly.update(input)) samples = 0;  // start over; the streams go on
+            for (int i = 0; i < frameSamples; ++i) addSample();
+            accumulation.copyMeanTo(image);
+        };
+        // --8<-- [end:window]
+        session.finish(image, render, eachFrame);
+
+        // 6. Statistics: every ray the shader traced (camera, bounce and shadow rays).
+        std::vector<uint32_t> counts = accumulation.readRayCounts();
+        double rays = std::accumulate(counts.begin(), counts.end(), 0.0);
+        double seconds = session.stats().number("wall_ms") / 1000.0;
+        session.stats().set("samples_per_pixel", double(samples));
+        session.stats().set("rays", rays);
+        if (!session.isWindow()) {
+            double all = double(width) * height * samples;
+            session.stats().set("samples_per_second", all / seconds);
+            session.stats().set("rays_per_second", rays / seconds);
+        }
+        if (scriptCameraMove) session.stats().set("camera_z", double(fly.eye.z));
+    }, gl33);
+}

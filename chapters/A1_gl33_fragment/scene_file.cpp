@@ -1,0 +1,559 @@
+// Chapter 10: scenes from text files. The file is read whole and walked line by line,
+// as the OBJ loader does (chapter 07); each statement is checked as it is read, and
+// what needs the whole file (materials used before their line, the camera, an emitter)
+// is checked at the end.
+#include "scene_file.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "course/error.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using course::ExitCode;
+
+// A scene file is a few kilobytes: meshes live in OBJ files. This only stops a wrong
+// file (a video, a disk image) from being read into memory whole.
+constexpr std::uintmax_t kMostBytes = std::uintmax_t(16) << 20;
+// No statement has more fields than a camera or a mesh with every option (17 words).
+constexpr size_t kMostWords = 24;
+constexpr const char* kNameRule =
+    "use letters, digits, '_' and '-', starting with a letter or '_'";
+
+// ---------------------------------------------------------------------------------------
+// Characters and words
+// ---------------------------------------------------------------------------------------
+
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }  // \r: CR LF files
+
+// A text file has no control bytes except tab, CR and LF (LF never reaches a line).
+bool isControlByte(char c) {
+    const unsigned char byte = static_cast<unsigned char>(c);
+    return (byte < 0x20 && c != '\t' && c != '\r') || byte == 0x7f;
+}
+
+bool isLetter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+
+// Material and shape names: letters, digits, '_' and '-', starting with a letter or '_'.
+bool isName(std::string_view word) {
+    if (!isLetter(word[0]) && word[0] != '_')
+        return false;
+    for (char c : word)
+        if (!isLetter(c) && !isDigit(c) && c != '_' && c != '-')
+            return false;
+    return true;
+}
+
+// Cuts the next blank-separated word off the front of `rest`; "" at the end of the line.
+std::string_view nextWord(std::string_view& rest) {
+    size_t start = 0;
+    while (start < rest.size() && isBlank(rest[start]))
+        ++start;
+    size_t end = start;
+    while (end < rest.size() && !isBlank(rest[end]))
+        ++end;
+    const std::string_view word = rest.substr(start, end - start);
+    rest.remove_prefix(end);
+    return word;
+}
+
+// 'word' for a message, cut short so that one huge garbage word gives a short message.
+std::string inQuotes(std::string_view word) {
+    constexpr size_t kShown = 40;
+    if (word.size() <= kShown)
+        return "'" + std::string(word) + "'";
+    return "'" + std::string(word.substr(0, kShown)) + "...'";
+}
+
+// ---------------------------------------------------------------------------------------
+// Files
+// ---------------------------------------------------------------------------------------
+
+// Messages name absolute paths, so "cannot open" says exactly where we looked.
+std::string absolutePath(const fs::path& path) {
+    std::error_code error;
+    const fs::path absolute = fs::absolute(path, error);
+    return error ? path.string() : absolute.lexically_normal().string();
+}
+
+bool isRegularFile(const fs::path& path) {
+    std::error_code error;
+    return fs::is_regular_file(path, error);
+}
+
+std::string readWholeFile(const std::string& path, const std::string& shownPath) {
+    std::error_code error;
+    const fs::file_status status = fs::status(path, error);
+    if (fs::is_directory(status))
+        course::fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
+    if (fs::exists(status) && !fs::is_regular_file(status))  // a pipe, /dev/zero, ...
+        course::fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
+    const std::uintmax_t size = fs::file_size(path, error);
+    if (!error && size > kMostBytes)
+        course::fail(ExitCode::BadInput, shownPath + ": too large for a scene file: " +
+                                             std::to_string(size) + " bytes, over 16 MiB");
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file)
+        course::fail(ExitCode::BadInput,
+                     shownPath + ": cannot open (" + std::strerror(errno) + ")");
+    std::string text;
+    char chunk[1 << 16];
+    size_t count = 0;
+    while ((count = std::fread(chunk, 1, sizeof chunk, file)) > 0 && text.size() <= kMostBytes)
+        text.append(chunk, count);
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed)
+        course::fail(ExitCode::BadInput, shownPath + ": cannot read the file");
+    if (text.size() > kMostBytes)  // the file grew while we read it
+        course::fail(ExitCode::BadInput, shownPath + ": too large for a scene file");
+    return text;
+}
+
+// ---------------------------------------------------------------------------------------
+// The parser
+// ---------------------------------------------------------------------------------------
+
+using Words = std::vector<std::string_view>;
+
+// A shape's material as written; its index is filled in once the whole file is read,
+// so that a material may be defined after the shapes that use it.
+enum class ShapeKind { Sphere, Quad, Triangle, Mesh };
+struct MaterialUse {
+    std::string name;
+    size_t line;
+    ShapeKind kind;
+    size_t shape;  // index into the scene's vector of that kind of shape
+};
+
+class SceneParser {
+public:
+    SceneParser(std::string shownPath, std::vector<std::string> meshFolders)
+        : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)) {
+        scene_.path = path_;
+    }
+
+    void readLine(std::string_view line, size_t lineNumber) {
+        lineNumber_ = lineNumber;
+        // Before anything else: a NUL or other control byte means this is no text file.
+        for (char c : line)
+            if (isControlByte(c))
+                fail("binary data (a control byte) in what should be a text file");
+        line = line.substr(0, line.find('#'));  // a comment runs to the end of the line
+
+        Words words;
+        for (std::string_view word = nextWord(line); !word.empty(); word = nextWord(line)) {
+            if (words.size() == kMostWords)
+                fail("too many fields for any statement");
+            words.push_back(word);
+        }
+        if (words.empty())
+            return;  // a blank line, or only a comment
+        const std::string_view keyword = words.front();
+        words.erase(words.begin());
+        if (keyword == "camera")
+            readCamera(words);
+        else if (keyword == "material")
+            readMaterial(words);
+        else if (keyword == "sphere")
+            readSphere(words);
+        else if (keyword == "quad")
+            readQuad(words);
+        else if (keyword == "triangle")
+            readTriangle(words);
+        else if (keyword == "mesh")
+            readMesh(words);
+        else
+            fail("unknown keyword " + inQuotes(keyword) +
+                 " (expected camera, material, sphere, quad, triangle or mesh)");
+    }
+
+    SceneFile finish() {
+        for (const MaterialUse& use : uses_) {  // in file order: the first error is named
+            const auto found = materialIndex_.find(use.name);
+            if (found == materialIndex_.end())
+                failAt(use.line, "material " + inQuotes(use.name) + " is not defined");
+            materialOf(use) = found->second;
+        }
+        if (cameraLine_ == 0)
+            failAt(0, "no camera: a scene needs one 'camera' line");
+        if (scene_.emitterCount() == 0)
+            failAt(0, "no emitter: no shape uses a material with an emission");
+        return std::move(scene_);
+    }
+
+    [[noreturn]] void failAt(size_t lineNumber, const std::string& what) const {
+        course::fail(ExitCode::BadInput,
+                     path_ + ":" + std::to_string(lineNumber) + ": " + what);
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) const { failAt(lineNumber_, what); }
+
+    // --8<-- [start:number]
+    float readNumber(std::string_view word) const {
+        std::string_view digits = word;
+        if (digits.size() > 1 && digits[0] == '+')  // from_chars refuses a leading '+'
+            digits.remove_prefix(1);
+        double value = 0.0;
+        const char* end = digits.data() + digits.size();
+        const auto [stop, error] = std::from_chars(digits.data(), end, value);
+        if (error == std::errc::result_out_of_range)
+            fail(inQuotes(word) + " is out of range for a number");
+        if (error != std::errc() || stop != end)
+            fail(inQuotes(word) + " is not a number");
+        // from_chars accepts "nan" and "inf": numbers, but no place in a scene.
+        if (!std::isfinite(value))
+            fail(inQuotes(word) + " is not a finite number");
+        if (std::fabs(value) > std::numeric_limits<float>::max())
+            fail(inQuotes(word) + " is too large for a float");
+        return float(value);
+    }
+    // --8<-- [end:number]
+
+    glm::vec3 readVector(const Words& words, size_t first) const {
+        return {readNumber(words[first]), readNumber(words[first + 1]),
+                readNumber(words[first + 2])};
+    }
+
+    void expectFieldCount(std::string_view keyword, const Words& words, size_t count,
+                          const char* fields) const {
+        if (words.size() != count)
+            fail(inQuotes(keyword) + " needs " + std::to_string(count) + " fields (" + fields +
+                 "), got " + std::to_string(words.size()));
+    }
+
+    void expectLabel(const Words& words, size_t index, std::string_view label,
+                     std::string_view statement) const {
+        if (words[index] != label)
+            fail(inQuotes(statement) + " expects " + inQuotes(label) + " here, got " +
+                 inQuotes(words[index]));
+    }
+
+    // camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+    void readCamera(const Words& words) {
+        expectFieldCount("camera", words, 16, "eye X Y Z look X Y Z up X Y Z focal F sensor S");
+        if (cameraLine_ != 0)
+            fail("a second camera (the first is on line " + std::to_string(cameraLine_) + ")");
+        const char* labels[] = {"eye", "look", "up"};
+        for (size_t i = 0; i < 3; ++i)
+            expectLabel(words, 4 * i, labels[i], "camera");
+        expectLabel(words, 12, "focal", "camera");
+        expectLabel(words, 14, "sensor", "camera");
+
+        SceneCamera camera;
+        camera.eye = readVector(words, 1);
+        camera.look = readVector(words, 5);
+        camera.up = readVector(words, 9);
+        camera.focalLength = readNumber(words[13]);
+        camera.sensorWidth = readNumber(words[15]);
+        if (glm::length(camera.look) == 0.0f)
+            fail("the camera's look direction must not be zero");
+        if (glm::length(camera.up) == 0.0f)
+            fail("the camera's up direction must not be zero");
+        const glm::dvec3 look(camera.look), up(camera.up);
+        if (glm::length(glm::cross(look, up)) <= 1e-6 * glm::length(look) * glm::length(up))
+            fail("the camera's up must not be parallel to its look direction");
+        if (!(camera.focalLength > 0.0f) || !(camera.sensorWidth > 0.0f))
+            fail("the camera's focal length and sensor width must be positive");
+        scene_.camera = camera;
+        cameraLine_ = lineNumber_;
+    }
+
+    // material NAME albedo R G B [emission R G B]
+    void readMaterial(const Words& words) {
+        if (words.size() != 5 && words.size() != 9)
+            fail("'material' needs 5 fields (NAME albedo R G B) or 9 (... emission R G B), "
+                 "got " + std::to_string(words.size()));
+        const std::string_view name = words[0];
+        if (!isName(name))
+            fail("material name " + inQuotes(name) + ": " + kNameRule);
+        const std::string key(name);
+        const auto earlier = materialLines_.find(key);
+        if (earlier != materialLines_.end())
+            fail("material " + inQuotes(name) + " is already defined on line " +
+                 std::to_string(earlier->second));
+        expectLabel(words, 1, "albedo", "material");
+
+        SceneMaterial material;
+        material.name = key;
+        material.albedo = readVector(words, 2);
+        for (int c = 0; c < 3; ++c)
+            if (material.albedo[c] < 0.0f || material.albedo[c] > 1.0f)
+                fail("albedo " + inQuotes(words[2 + c]) + " is outside [0, 1]: a surface "
+                     "cannot reflect more light than reaches it");
+        if (words.size() == 9) {
+            expectLabel(words, 5, "emission", "material");
+            material.emission = readVector(words, 6);
+            for (int c = 0; c < 3; ++c)
+                if (material.emission[c] < 0.0f)
+                    fail("emission " + inQuotes(words[6 + c]) + " is negative");
+        }
+        materialLines_[key] = lineNumber_;
+        materialIndex_[key] = uint32_t(scene_.materials.size());
+        scene_.materials.push_back(material);
+    }
+
+    // Called before the shape is appended to its vector: `shape` is its index there.
+    void useMaterial(std::string_view name, ShapeKind kind, size_t shape) {
+        uses_.push_back({std::string(name), lineNumber_, kind, shape});
+    }
+
+    uint32_t& materialOf(const MaterialUse& use) {
+        switch (use.kind) {
+        case ShapeKind::Sphere: return scene_.spheres[use.shape].material;
+        case ShapeKind::Quad: return scene_.quads[use.shape].material;
+        case ShapeKind::Triangle: return scene_.triangles[use.shape].material;
+        case ShapeKind::Mesh: break;
+        }
+        return scene_.meshes[use.shape].material;
+    }
+
+    // The fields of a sphere, quad or triangle, then optionally `name NAME`.
+    std::string readShapeFields(std::string_view keyword, const Words& words, size_t count,
+                                const char* fields) const {
+        if (words.size() == count + 2) {
+            expectLabel(words, count, "name", keyword);
+            return readShapeName(words[count + 1]);
+        }
+        if (words.size() != count)
+            fail(inQuotes(keyword) + " needs " + std::to_string(count) + " fields (" + fields +
+                 "), then optionally name NAME; got " + std::to_string(words.size()));
+        return "";
+    }
+
+    std::string readShapeName(std::string_view name) const {
+        if (!isName(name))
+            fail("shape name " + inQuotes(name) + ": " + kNameRule);
+        return std::string(name);
+    }
+
+    // sphere CX CY CZ RADIUS MATERIAL [name NAME]
+    void readSphere(const Words& words) {
+        SceneSphere sphere;
+        sphere.name = readShapeFields("sphere", words, 5, "CX CY CZ RADIUS MATERIAL");
+        sphere.center = readVector(words, 0);
+        sphere.radius = readNumber(words[3]);
+        if (!(sphere.radius > 0.0f))
+            fail("the sphere's radius must be positive, got " + inQuotes(words[3]));
+        useMaterial(words[4], ShapeKind::Sphere, scene_.spheres.size());
+        scene_.spheres.push_back(sphere);
+    }
+
+    // Zero when the two edges are parallel or either is zero; in double precision, so
+    // that a long thin but real shape is not taken for a degenerate one.
+    static double parallelogramArea(glm::vec3 edge1, glm::vec3 edge2) {
+        return glm::length(glm::cross(glm::dvec3(edge1), glm::dvec3(edge2)));
+    }
+
+    static bool isDegenerate(glm::vec3 edge1, glm::vec3 edge2) {
+        const double area = parallelogramArea(edge1, edge2);
+        return area <= 1e-7 * glm::length(glm::dvec3(edge1)) * glm::length(glm::dvec3(edge2));
+    }
+
+    // quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
+    void readQuad(const Words& words) {
+        SceneQuad quad;
+        quad.name = readShapeFields("quad", words, 10, "OX OY OZ EX EY EZ FX FY FZ MATERIAL");
+        quad.origin = readVector(words, 0);
+        quad.edge1 = readVector(words, 3);
+        quad.edge2 = readVector(words, 6);
+        if (isDegenerate(quad.edge1, quad.edge2))
+            fail("the quad has zero area: an edge is zero or the two edges are parallel");
+        useMaterial(words[9], ShapeKind::Quad, scene_.quads.size());
+        scene_.quads.push_back(quad);
+    }
+
+    // triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
+    void readTriangle(const Words& words) {
+        SceneTriangle triangle;
+        triangle.name =
+            readShapeFields("triangle", words, 10, "AX AY AZ BX BY BZ CX CY CZ MATERIAL");
+        triangle.p0 = readVector(words, 0);
+        triangle.p1 = readVector(words, 3);
+        triangle.p2 = readVector(words, 6);
+        if (isDegenerate(triangle.p1 - triangle.p0, triangle.p2 - triangle.p0))
+            fail("the triangle has zero area: its corners are on one line");
+        useMaterial(words[9], ShapeKind::Triangle, scene_.triangles.size());
+        scene_.triangles.push_back(triangle);
+    }
+
+    // mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
+    void readMesh(const Words& words) {
+        if (words.size() < 2)
+            fail("'mesh' needs a PATH and a MATERIAL, then optionally scale S, "
+                 "rotate_y DEGREES, translate X Y Z, name NAME");
+        SceneMesh mesh;
+        mesh.writtenPath = std::string(words[0]);
+        mesh.path = findMesh(mesh.writtenPath);
+        mesh.line = lineNumber_;
+        bool seen[4] = {false, false, false, false};
+        for (size_t i = 2; i < words.size();) {
+            const std::string_view option = words[i];
+            const int which = option == "scale" ? 0 : option == "rotate_y" ? 1
+                            : option == "translate" ? 2 : option == "name" ? 3 : -1;
+            if (which < 0)
+                fail("unknown mesh option " + inQuotes(option) +
+                     " (expected scale, rotate_y, translate or name)");
+            if (seen[which])
+                fail(inQuotes(option) + " is given twice");
+            seen[which] = true;
+            const size_t count = which == 2 ? 3 : 1;
+            if (words.size() - (i + 1) < count)
+                fail(inQuotes(option) + " needs " + std::to_string(count) +
+                     (which == 3 ? " name" : count == 1 ? " number" : " numbers"));
+            if (which == 0) {
+                mesh.scale = readNumber(words[i + 1]);
+                if (!(mesh.scale > 0.0f))
+                    fail("the mesh's scale must be positive, got " + inQuotes(words[i + 1]));
+            } else if (which == 1) {
+                mesh.rotationYDegrees = readNumber(words[i + 1]);
+            } else if (which == 3) {
+                mesh.name = readShapeName(words[i + 1]);
+            } else {
+                mesh.translation = readVector(words, i + 1);
+            }
+            i += 1 + count;
+        }
+        useMaterial(words[1], ShapeKind::Mesh, scene_.meshes.size());
+        scene_.meshes.push_back(mesh);
+    }
+
+    // The scene file's folder first, then the folders the program passed in.
+    std::string findMesh(const std::string& written) const {
+        const fs::path relative(written);
+        std::vector<fs::path> candidates;
+        if (relative.is_absolute()) {
+            candidates.push_back(relative);
+        } else {
+            candidates.push_back(fs::path(path_).parent_path() / relative);
+            for (const std::string& folder : meshFolders_)
+                candidates.push_back(fs::path(folder) / relative);
+        }
+        std::string tried;
+        for (const fs::path& candidate : candidates) {
+            if (isRegularFile(candidate))
+                return absolutePath(candidate);
+            tried += (tried.empty() ? "" : ", ") + absolutePath(candidate);
+        }
+        fail("mesh file " + inQuotes(written) + " not found (looked for " + tried + ")");
+    }
+
+    std::string path_;
+    std::vector<std::string> meshFolders_;
+    size_t lineNumber_ = 0;
+    size_t cameraLine_ = 0;
+    std::unordered_map<std::string, size_t> materialLines_;
+    std::unordered_map<std::string, uint32_t> materialIndex_;
+    std::vector<MaterialUse> uses_;
+    SceneFile scene_;
+};
+
+}  // namespace
+
+// --8<-- [start:load]
+SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
+                         const std::vector<std::string>& meshFolders) {
+    SceneParser parser(shownPath, meshFolders);
+    if (text.empty())
+        parser.failAt(0, "empty file");
+    if (text.substr(0, 3) == "\xEF\xBB\xBF")
+        text.remove_prefix(3);  // a UTF-8 byte order mark, written by some Windows tools
+    size_t lineNumber = 0;
+    while (!text.empty()) {
+        const size_t newline = text.find('\n');
+        parser.readLine(text.substr(0, newline), ++lineNumber);
+        text.remove_prefix(newline == std::string_view::npos ? text.size() : newline + 1);
+    }
+    return parser.finish();
+}
+
+SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders) {
+    const std::string shownPath = absolutePath(path);
+    const std::string text = readWholeFile(path, shownPath);
+    return parseSceneText(text, shownPath, meshFolders);
+}
+// --8<-- [end:load]
+
+size_t SceneFile::emitterCount() const {
+    auto emits = [this](uint32_t material) {
+        return material < materials.size() && materials[material].emits();
+    };
+    size_t count = 0;
+    for (const SceneSphere& sphere : spheres)
+        count += emits(sphere.material);
+    for (const SceneQuad& quad : quads)
+        count += emits(quad.material);
+    for (const SceneTriangle& triangle : triangles)
+        count += emits(triangle.material);
+    for (const SceneMesh& mesh : meshes)
+        count += emits(mesh.material);
+    return count;
+}
+
+// --8<-- [start:transform]
+glm::mat4 SceneMesh::worldFromMesh() const {
+    // Read right to left: scale first, then turn about y, then move.
+    const glm::mat4 identity(1.0f);
+    return glm::translate(identity, translation) *
+           glm::rotate(identity, glm::radians(rotationYDegrees), glm::vec3(0, 1, 0)) *
+           glm::scale(identity, glm::vec3(scale));
+}
+// --8<-- [end:transform]
+
+namespace {
+
+// Nine significant digits read back as the same float.
+std::string number(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", double(value));
+    return text;
+}
+
+std::string numbers(glm::vec3 v) { return number(v.x) + " " + number(v.y) + " " + number(v.z); }
+
+}  // namespace
+
+std::string formatSceneFile(const SceneFile& scene) {
+    const SceneCamera& camera = scene.camera;
+    std::string text = "camera eye " + numbers(camera.eye) + " look " + numbers(camera.look) +
+                       " up " + numbers(camera.up) + " focal " + number(camera.focalLength) +
+                       " sensor " + number(camera.sensorWidth) + "\n";
+    for (const SceneMaterial& material : scene.materials) {
+        text += "material " + material.name + " albedo " + numbers(material.albedo);
+        if (material.emits())
+            text += " emission " + numbers(material.emission);
+        text += "\n";
+    }
+    auto name = [&scene](uint32_t material) { return scene.materials.at(material).name; };
+    auto shapeName = [](const std::string& name) {
+        return name.empty() ? std::string("\n") : " name " + name + "\n";
+    };
+    for (const SceneSphere& sphere : scene.spheres)
+        text += "sphere " + numbers(sphere.center) + " " + number(sphere.radius) + " " +
+                name(sphere.material) + shapeName(sphere.name);
+    for (const SceneQuad& quad : scene.quads)
+        text += "quad " + numbers(quad.origin) + " " + numbers(quad.edge1) + " " +
+                numbers(quad.edge2) + " " + name(quad.material) + shapeName(quad.name);
+    for (const SceneTriangle& triangle : scene.triangles)
+        text += "triangle " + numbers(triangle.p0) + " " + numbers(triangle.p1) + " " +
+                numbers(triangle.p2) + " " + name(triangle.material) + shapeName(triangle.name);
+    for (const SceneMesh& mesh : scene.meshes)
+        text += "mesh " + mesh.writtenPath + " " + name(mesh.material) + " scale " +
+                number(mesh.scale) + " rotate_y " + number(mesh.rotationYDegrees) +
+                " translate " + numbers(mesh.translation) + shapeName(mesh.name);
+    return text;
+}

@@ -1,0 +1,122 @@
+// Scenes as small text files (assets/scenes/*.scene), read by a strict line parser.
+// No GL here: the chapter turns a SceneFile into storage buffers, and loads the meshes
+// it names with the OBJ loader of chapter 07.
+//
+// The format, one statement per line; `#` starts a comment; numbers are decimal (1,
+// -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
+//
+//   camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+//       a pinhole camera (python_prototypes/camera_rays.py): the eye, a viewing direction
+//       (not a point), roughly-up, the focal length and the sensor's *width*; exactly
+//       one per file. Its horizontal field of view is 2 atan(S / 2F).
+//   material NAME albedo R G B [emission R G B]
+//       a Lambertian surface reflecting a fraction R G B in [0, 1] of the light; with
+//       `emission`, also a light giving out that radiance (W / m^2 / sr, per channel).
+//       NAME: letters, digits, '_' and '-'; each name once. A material may be used
+//       before the line that defines it.
+//   sphere CX CY CZ RADIUS MATERIAL [name NAME]
+//   quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
+//       the parallelogram with corners O, O + E, O + E + F, O + F (two edges from a
+//       corner, so a rectangle needs no fourth corner to agree)
+//   triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
+//   mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
+//       an OBJ file, placed in the scene by scaling it by S, turning it about the y axis
+//       by DEGREES (counter-clockwise seen from above), then moving it by X Y Z, in that
+//       order whatever order the options are written in. PATH (no spaces) is relative
+//       to the scene file's folder or, if not found there, to each mesh folder the
+//       program passes in (the build's generated assets); the first that exists wins.
+//   A shape's optional name (same rule as a material's) labels a region of the image
+//   for comparisons: several shapes may share one name (the six faces of a box).
+//
+// The front of a quad is the side cross(E, F) points to; of a triangle, the side
+// cross(B - A, C - A) points to (corners counter-clockwise seen from the front); of a
+// sphere, the outside. An emitting surface emits from its front only. A scene needs at
+// least one emitter: a shape whose material has an emission above zero.
+//
+// Any problem throws course::Failure(ExitCode::BadInput, "file:line: what is wrong"),
+// the file as an absolute path; line 0 means the file as a whole (empty, no camera).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+// --8<-- [start:types]
+struct SceneCamera {
+    glm::vec3 eye{0.0f}, look{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
+    float focalLength = 0.035f;  // metres
+    float sensorWidth = 0.036f;  // metres
+};
+
+struct SceneMaterial {
+    std::string name;
+    glm::vec3 albedo{0.0f};    // reflected fraction per channel, in [0, 1]
+    glm::vec3 emission{0.0f};  // emitted radiance; zero for a surface that only reflects
+
+    bool emits() const { return emission.r > 0.0f || emission.g > 0.0f || emission.b > 0.0f; }
+};
+
+// Shapes refer to their material by its index in SceneFile::materials.
+struct SceneSphere {
+    glm::vec3 center{0.0f};
+    float radius = 1.0f;
+    uint32_t material = 0;
+    std::string name;  // optional
+};
+
+struct SceneQuad {
+    glm::vec3 origin{0.0f}, edge1{0.0f}, edge2{0.0f};  // corners O, O+E, O+E+F, O+F
+    uint32_t material = 0;
+    std::string name;  // optional
+};
+
+struct SceneTriangle {
+    glm::vec3 p0{0.0f}, p1{0.0f}, p2{0.0f};
+    uint32_t material = 0;
+    std::string name;  // optional
+};
+
+struct SceneMesh {
+    std::string path;         // absolute: where the file was found
+    std::string writtenPath;  // as written in the scene file
+    uint32_t material = 0;
+    float scale = 1.0f;
+    float rotationYDegrees = 0.0f;
+    glm::vec3 translation{0.0f};
+    std::string name;  // optional
+    size_t line = 0;   // the `mesh` line, for messages about the OBJ file
+
+    // Scale, then turn about y, then move: the matrix taking mesh points to the world.
+    glm::mat4 worldFromMesh() const;
+};
+
+struct SceneFile {
+    std::string path;  // absolute
+    SceneCamera camera;
+    std::vector<SceneMaterial> materials;
+    std::vector<SceneSphere> spheres;
+    std::vector<SceneQuad> quads;
+    std::vector<SceneTriangle> triangles;
+    std::vector<SceneMesh> meshes;
+
+    // Shapes whose material emits: spheres, quads, triangles and meshes.
+    size_t emitterCount() const;
+};
+// --8<-- [end:types]
+
+// Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
+// scene file's own folder.
+SceneFile loadSceneFile(const std::string& path,
+                        const std::vector<std::string>& meshFolders = {});
+
+// The same, from text already in memory: shownPath names it in messages and its folder
+// is where mesh paths are looked up first.
+SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
+                         const std::vector<std::string>& meshFolders = {});
+
+// The scene as text in the format above, with every number written so that it reads
+// back as the same float: parseSceneText(formatSceneFile(s)) gives s again.
+std::string formatSceneFile(const SceneFile& scene);

@@ -1,0 +1,164 @@
+// The scene: spheres, quads and triangles in a buffer texture, each with a material
+// and, if it glows, its place in the emitter list (materials and emitters are in the
+// uniform block of shared.h). Every ray tests every shape (chapter 11's BVH does
+// better); the Cornell scenes have a few dozen shapes, the gems ~150.
+
+// --8<-- [start:fetch]
+// GL 3.3 shaders cannot read storage buffers, but they can read a buffer as a texture:
+// texelFetch(primitives, i) is the i-th RGBA32F texel, any i, no filtering.
+uniform samplerBuffer primitives;
+
+struct Sphere {
+    vec4 centerRadius;  // xyz the centre, w the radius
+    uvec4 info;         // x material, y emitter index or NO_EMITTER
+};
+struct Quad {
+    vec4 origin;
+    vec4 edge1;
+    vec4 edge2;
+    uvec4 info;
+};
+struct Triangle {
+    vec4 p0;
+    vec4 p1;
+    vec4 p2;
+    uvec4 info;
+};
+
+vec4 texel(uint index) { return texelFetch(primitives, int(index)); }
+
+// The indices, stored as floats (shared.h), back as the uvec4 of chapter 10.
+uvec4 shapeInfo(vec4 stored) {
+    return uvec4(uint(stored.x), stored.y < 0.0 ? NO_EMITTER : uint(stored.y), 0u, 0u);
+}
+
+Sphere sphereAt(uint i) {
+    uint first = firstTexel.x + i * uint(SPHERE_TEXELS);
+    return Sphere(texel(first), shapeInfo(texel(first + 1u)));
+}
+Quad quadAt(uint i) {
+    uint first = firstTexel.y + i * uint(QUAD_TEXELS);
+    return Quad(texel(first), texel(first + 1u), texel(first + 2u),
+                shapeInfo(texel(first + 3u)));
+}
+Triangle triangleAt(uint i) {
+    uint first = firstTexel.z + i * uint(TRIANGLE_TEXELS);
+    return Triangle(texel(first), texel(first + 1u), texel(first + 2u),
+                    shapeInfo(texel(first + 3u)));
+}
+// --8<-- [end:fetch]
+
+// What a ray found.
+struct Hit {
+    float t;
+    vec3 position;
+    vec3 normal;     // unit length, on the shape's front side (outside, for a sphere)
+    bool front;      // did the ray arrive at the front?
+    uint material;
+    uint emitter;    // index into the emitter list, or NO_EMITTER
+};
+
+// The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
+bool hitSphere(Ray ray, vec4 centerRadius, float tMin, float tMax, out float t) {
+    vec3 toOrigin = ray.origin - centerRadius.xyz;
+    float halfB = dot(toOrigin, ray.direction);
+    float c = dot(toOrigin, toOrigin) - centerRadius.w * centerRadius.w;
+    float discriminant = halfB * halfB - c;
+    if (discriminant < 0.0) return false;
+    float root = sqrt(discriminant);
+    // -b - sqrt(...) loses digits when b is large and negative: q / a is exact there.
+    float q = -halfB - (halfB >= 0.0 ? root : -root);
+    if (q == 0.0) return false;  // the origin on the sphere, the ray along its tangent
+    float t1 = q, t2 = c / q;
+    t = min(t1, t2);
+    if (t <= tMin) t = max(t1, t2);
+    return t > tMin && t < tMax;
+}
+
+// Where the ray meets the quad's plane, if the point is inside the parallelogram.
+bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
+    vec3 normal = cross(quad.edge1.xyz, quad.edge2.xyz);
+    float facing = dot(normal, ray.direction);
+    if (abs(facing) < 1e-20) return false;  // parallel to the plane
+    t = dot(normal, quad.origin.xyz - ray.origin) / facing;
+    if (!(t > tMin && t < tMax)) return false;
+    // The point's coordinates along the two edges, each in [0, 1] inside: solve
+    // p = origin + a edge1 + b edge2 with the dual vectors of the edges.
+    vec3 p = ray.origin + t * ray.direction - quad.origin.xyz;
+    vec3 w = normal / dot(normal, normal);
+    float a = dot(w, cross(p, quad.edge2.xyz));
+    float b = dot(w, cross(quad.edge1.xyz, p));
+    return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
+}
+
+// Moller-Trumbore, both sides (chapter 06).
+bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
+    vec3 edge1 = triangle.p1.xyz - triangle.p0.xyz;
+    vec3 edge2 = triangle.p2.xyz - triangle.p0.xyz;
+    vec3 p = cross(ray.direction, edge2);
+    float determinant = dot(edge1, p);
+    if (abs(determinant) < 1e-20) return false;
+    float inverse = 1.0 / determinant;
+    vec3 toOrigin = ray.origin - triangle.p0.xyz;
+    float u = dot(toOrigin, p) * inverse;
+    if (u < 0.0 || u > 1.0) return false;
+    vec3 q = cross(toOrigin, edge1);
+    float v = dot(ray.direction, q) * inverse;
+    if (v < 0.0 || u + v > 1.0) return false;
+    t = dot(edge2, q) * inverse;
+    return t > tMin && t < tMax;
+}
+
+// Fills in a hit from the shape's front normal and its info (material, emitter).
+Hit makeHit(Ray ray, float t, vec3 frontNormal, uvec4 info) {
+    vec3 normal = normalize(frontNormal);
+    return Hit(t, ray.origin + t * ray.direction, normal,
+               dot(normal, ray.direction) < 0.0, info.x, info.y);
+}
+
+// --8<-- [start:nearest]
+// The nearest surface along the ray, between tMin and tMax.
+bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
+    int kind = -1;
+    uint index = 0u;
+    float t;
+    for (uint i = 0u; i < shapeCounts.x; ++i)
+        if (hitSphere(ray, sphereAt(i).centerRadius, tMin, tMax, t)) {
+            tMax = t; kind = SHAPE_SPHERE; index = i;
+        }
+    for (uint i = 0u; i < shapeCounts.y; ++i)
+        if (hitQuad(ray, quadAt(i), tMin, tMax, t)) {
+            tMax = t; kind = SHAPE_QUAD; index = i;
+        }
+    for (uint i = 0u; i < shapeCounts.z; ++i)
+        if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) {
+            tMax = t; kind = SHAPE_TRIANGLE; index = i;
+        }
+    // Normals only for the one shape that was hit.
+    if (kind == SHAPE_SPHERE) {
+        Sphere s = sphereAt(index);
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.centerRadius.xyz,
+                      s.info);
+    } else if (kind == SHAPE_QUAD) {
+        Quad q = quadAt(index);
+        hit = makeHit(ray, tMax, cross(q.edge1.xyz, q.edge2.xyz), q.info);
+    } else if (kind == SHAPE_TRIANGLE) {
+        Triangle tr = triangleAt(index);
+        hit = makeHit(ray, tMax, cross(tr.p1.xyz - tr.p0.xyz, tr.p2.xyz - tr.p0.xyz),
+                      tr.info);
+    }
+    return kind >= 0;
+}
+// --8<-- [end:nearest]
+
+// Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
+bool anyHit(Ray ray, float tMin, float tMax) {
+    float t;
+    for (uint i = 0u; i < shapeCounts.x; ++i)
+        if (hitSphere(ray, sphereAt(i).centerRadius, tMin, tMax, t)) return true;
+    for (uint i = 0u; i < shapeCounts.y; ++i)
+        if (hitQuad(ray, quadAt(i), tMin, tMax, t)) return true;
+    for (uint i = 0u; i < shapeCounts.z; ++i)
+        if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) return true;
+    return false;
+}

@@ -1,0 +1,327 @@
+"""Appendix A1: chapter 10's path tracer as an OpenGL 3.3 fragment shader.
+
+It runs on contexts that really are 3.3 (Mesa with its version forced down, on EGL and
+on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
+chapter 10's: on llvmpipe the same seed gives the same bits (the random streams, the
+arithmetic and the order of the samples are the same), and with another seed the
+regions of the Cornell box agree within their statistical error (COURSE.md)."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import threading
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import BIN, ROOT, copy_shaders, read_pfm, run_chapter, xvfb_available
+
+GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
+SIGMAS = 4.5  # as chapter 10's checks: a correct renderer fails 1 in ~150,000
+SIZE = ("--width", "48", "--height", "48")
+pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
+
+
+def render(tmp_path, prefix: str, name: str, *args, env=None) -> tuple[np.ndarray, dict]:
+    """Renders a PFM headless; returns the linear image and the --json statistics."""
+    out = tmp_path / f"{name}.pfm"
+    result = run_chapter(prefix, "--headless", "--out", out, "--json", *map(str, args),
+                         env=env)
+    assert result.returncode == 0, result.stderr
+    return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
+
+
+# --- The same pictures as chapter 10 --------------------------------------------------
+
+@pytest.fixture(scope="module")
+def pictures(tmp_path_factory):
+    """Chapter 10 (GL 4.5) and the appendix on forced 3.3 contexts, global and direct."""
+    folder = tmp_path_factory.mktemp("pictures")
+    runs = {}
+    for light in ("global", "direct"):
+        options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
+        runs["10", light, 1] = render(folder, "10", f"c10_{light}", *options, "--seed", 1)
+        runs["egl", light, 1] = render(folder, "A1", f"egl_{light}", *options, "--seed", 1,
+                                       "--backend", "egl", env=GL33)
+        runs["egl", light, 2] = render(folder, "A1", f"egl_{light}_2", *options, "--seed", 2,
+                                       "--backend", "egl", env=GL33)
+    runs["osmesa", "global", 1] = render(folder, "A1", "osmesa", *SIZE, "--spp", 64,
+                                         "--seed", 1, "--backend", "osmesa", env=GL33)
+    return runs
+
+
+def test_runs_on_gl33_contexts_egl_and_osmesa(pictures):
+    for backend in ("egl", "osmesa"):
+        _, stats = pictures[backend, "global", 1]
+        assert stats["gl_version"].startswith("3.3 (Core Profile)"), stats
+        assert stats["backend"].startswith(backend), stats
+    _, stats = pictures["10", "global", 1]
+    assert not stats["gl_version"].startswith("3.3")  # chapter 10 needs 4.3
+    a, b = pictures["egl", "global", 1][0], pictures["osmesa", "global", 1][0]
+    assert np.array_equal(a, b)  # the same Mesa behind both
+
+
+@pytest.mark.parametrize("light", ["global", "direct"])
+def test_same_seed_same_samples_as_chapter_10(pictures, light):
+    # The same random streams, rays and arithmetic, one sample per pass as chapter 10 has
+    # one per dispatch: on llvmpipe (one compiler for compute and fragment shaders) the
+    # images are the same bits, and every pixel traced the same number of rays. Another
+    # GL may compile the two shaders differently; then only the statistics below hold.
+    ours, our_stats = pictures["egl", light, 1]
+    theirs, their_stats = pictures["10", light, 1]
+    assert our_stats["rays"] == their_stats["rays"]
+    if "llvmpipe" in our_stats["renderer"]:
+        assert np.array_equal(ours, theirs)
+    else:
+        assert np.abs(ours - theirs).mean() < 0.01 * theirs.mean()
+
+
+@pytest.mark.parametrize("light", ["global", "direct"])
+def test_regions_agree_with_chapter_10_statistically(pictures, light):
+    # Independent streams (seed 2 against chapter 10's seed 1): each wall and sphere's
+    # mean within 4.5 standard errors of the difference.
+    import mitsuba_reference
+    import scene_io
+    scene = scene_io.load_scene(str(ROOT / "assets" / "scenes" / "cornell_spheres.scene"))
+    masks = mitsuba_reference.region_masks(scene, 48, 48)
+    ours, theirs = pictures["egl", light, 2][0], pictures["10", light, 1][0]
+    assert not np.array_equal(ours, theirs)
+    our_means = mitsuba_reference.region_means(ours, masks)
+    their_means = mitsuba_reference.region_means(theirs, masks)
+    errors = mitsuba_reference.region_standard_errors(ours, theirs, masks)
+    checked = 0
+    for region, mask in masks.items():
+        if mask.sum() < 20:
+            continue  # the light: too few pixels wholly inside it at 48 x 48
+        difference = np.abs(our_means[region] - their_means[region])
+        assert np.all(difference < SIGMAS * errors[region] + 1e-6), (region, difference)
+        checked += 1
+    assert checked >= 7  # five walls, two spheres
+
+
+def test_random_numbers_are_chapter_10s_file(tmp_path):
+    # Bit for bit the same generator: the very same GLSL (it needs nothing above 3.30).
+    ours = (ROOT / "shaders" / "A1_gl33_fragment" / "random.glsl").read_bytes()
+    assert ours == (ROOT / "shaders" / "10_path_tracing" / "random.glsl").read_bytes()
+
+
+def test_splitting_the_passes_changes_nothing(tmp_path):
+    one, _ = render(tmp_path, "A1", "one", "--width", 24, "--height", 24, "--spp", 16,
+                    env=GL33)
+    four, _ = render(tmp_path, "A1", "four", "--width", 24, "--height", 24, "--spp", 16,
+                     "--batches", 4, env=GL33)
+    assert np.array_equal(one, four)
+
+
+# --- GL 3.3 and nothing newer ---------------------------------------------------------
+
+@pytest.mark.parametrize("backend", ["egl", "osmesa"])
+def test_refuses_a_gl_32_context_with_exit_4(tmp_path, backend):
+    out = tmp_path / "x.png"
+    result = run_chapter("A1", "--headless", "--backend", backend, "--out", out,
+                         env={"MESA_GL_VERSION_OVERRIDE": "3.2"})
+    assert result.returncode == 4, result.stderr
+    assert "needs OpenGL 3.3 core" in result.stderr
+    assert "offers OpenGL 3.2" in result.stderr
+    assert "compute" not in result.stderr  # the 4.3 chapters' advice is not for this one
+    assert not out.exists()
+
+
+def gl_commands() -> tuple[set[str], set[str]]:
+    """(every GL command, the GL 3.3 core profile's), from the Khronos gl.xml that glad2
+    ships and the build generates the loader from."""
+    import glad
+    registry = ET.parse(Path(glad.__file__).parent / "files" / "gl.xml").getroot()
+    everything = {c.findtext("proto/name") for c in registry.iter("command")}
+    core, removed = set(), set()
+    for feature in registry.iter("feature"):
+        version = tuple(map(int, feature.get("number").split(".")))
+        if feature.get("api") != "gl" or version > (3, 3):
+            continue
+        for part, names in (("require", core), ("remove", removed)):
+            for block in feature.iter(part):
+                if block.get("profile") in (None, "core"):
+                    names.update(c.get("name") for c in block.iter("command"))
+    return everything, core - removed
+
+
+def gl_calls(path: Path, everything: set[str]) -> list[tuple[str, int]]:
+    """(GL function, line number) of every GL function named in a source file."""
+    calls = []
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        code = line.split("//")[0]
+        calls += [(name, number) for name in re.findall(r"\bgl[A-Z]\w*", code)
+                  if name in everything]
+    return calls
+
+
+def enclosing_function(path: Path, line_number: int) -> str:
+    """The text of the top-level definition around a line: from the last line that
+    starts in column 0 with code (functions are not indented in the course's style)."""
+    lines = path.read_text().splitlines()[:line_number]
+    start = max(i for i, line in enumerate(lines)
+                if re.match(r"[A-Za-z]", line) and not line.startswith("namespace"))
+    return "\n".join(lines[start:])
+
+
+# Common functions only the compute chapters call: the appendix must not.
+COMPUTE_ONLY = ["dispatchCovering", "workGroupSize", "bindStorage", "loadCompute"]
+# How common/ keeps a newer call from a GL 3.3 context: a version check in the same
+# function (or a helper that makes one, checked below).
+GUARDS = ["GLAD_GL_VERSION_4_1", "GLAD_GL_VERSION_4_2", "GLAD_GL_VERSION_4_3",
+          "setUniform(", "fromTexture_"]
+
+
+def test_only_gl33_functions_in_the_appendix_and_the_common_code_it_runs():
+    everything, gl33 = gl_commands()
+    assert {"glTexBuffer", "glUniformBlockBinding", "glQueryCounter"} <= gl33
+    assert not {"glDispatchCompute", "glProgramUniform1i", "glMemoryBarrier"} & gl33
+    appendix = sorted((ROOT / "chapters" / "A1_gl33_fragment").glob("*.[ch]*"))
+    found = 0
+    for path in appendix:
+        for name, line in gl_calls(path, everything):
+            assert name in gl33, f"{path.name}:{line}: {name} is newer than GL 3.3"
+            found += 1
+        for function in COMPUTE_ONLY:
+            assert function not in path.read_text(), f"{path.name} calls {function}"
+    assert found > 30
+    # common/: a newer call must sit behind a version check or in a compute-only function.
+    for path in sorted((ROOT / "common").rglob("*.[ch]*")):
+        for name, line in gl_calls(path, everything):
+            if name in gl33:
+                continue
+            function = enclosing_function(path, line)
+            header = function.splitlines()[0]
+            assert any(guard in function for guard in GUARDS) or \
+                any(f"::{f}(" in header for f in COMPUTE_ONLY), \
+                f"common/{path.relative_to(ROOT / 'common')}:{line}: {name} (newer than " \
+                f"GL 3.3) is not behind a version check"
+    # The helpers named as guards make the check themselves.
+    program = (ROOT / "common" / "shader_program.cpp").read_text()
+    assert "if (GLAD_GL_VERSION_4_1) return direct(" in program
+    display = (ROOT / "common" / "display.cpp").read_text()
+    assert "fromTexture_(!GLAD_GL_VERSION_4_3)" in display
+
+
+# --- Scenes too large for the buffers -------------------------------------------------
+
+CAMERA = "camera eye 0 0 3.9 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.025\n"
+
+
+def test_more_materials_than_the_uniform_block_holds_is_exit_3(tmp_path):
+    scene = tmp_path / "materials.scene"
+    scene.write_text(CAMERA + "".join(f"material m{i} albedo 0.5 0.5 0.5 emission 1 1 1\n"
+                                      for i in range(257)) + "sphere 0 0 0 1 m0\n")
+    out = tmp_path / "x.png"
+    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out, env=GL33)
+    assert result.returncode == 3, result.stderr
+    assert str(scene) in result.stderr and "257 materials" in result.stderr
+    assert "MAX_MATERIALS" in result.stderr
+    assert not out.exists()
+
+
+def test_more_emitters_than_the_uniform_block_holds_is_exit_3(tmp_path):
+    scene = tmp_path / "lights.scene"
+    spheres = "".join(f"sphere {i % 20 - 10} {i // 20 - 7} -5 0.1 glow\n" for i in range(257))
+    scene.write_text(CAMERA + "material glow albedo 0.5 0.5 0.5 emission 1 1 1\n" + spheres)
+    result = run_chapter("A1", "--headless", "--scene", scene, "--out", tmp_path / "x.png",
+                         env=GL33)
+    assert result.returncode == 3, result.stderr
+    assert str(scene) in result.stderr and "257 emitting shapes" in result.stderr
+    assert "MAX_EMITTERS" in result.stderr
+
+
+def test_more_texels_than_the_buffer_texture_holds_is_exit_4(tmp_path):
+    # The Cornell box with spheres needs 2 x 2 + 6 x 4 = 28 texels; a GL that allowed
+    # only 27 (COURSE_MAX_TEXTURE_BUFFER_TEXELS lowers GL_MAX_TEXTURE_BUFFER_SIZE).
+    out = tmp_path / "x.png"
+    result = run_chapter("A1", "--headless", "--out", out,
+                         env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "27"})
+    assert result.returncode == 4, result.stderr
+    assert "cornell_spheres.scene" in result.stderr and "28 texels" in result.stderr
+    assert "GL_MAX_TEXTURE_BUFFER_SIZE" in result.stderr
+    assert not out.exists()
+    result = run_chapter("A1", "--headless", "--out", out, "--width", 8, "--height", 8,
+                         env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "28"})
+    assert result.returncode == 0, result.stderr
+
+
+def test_too_many_loop_iterations_are_refused_as_in_chapter_10(tmp_path):
+    # ~150 shapes x 1001 bounces: far beyond llvmpipe's 65535 iterations an invocation.
+    result = run_chapter("A1", "--headless", "--scene", "cornell_gems", "--depth", 1000,
+                         "--out", tmp_path / "x.png", env=GL33)
+    assert result.returncode == 4, result.stderr
+    assert "cornell_gems.scene" in result.stderr and "65535" in result.stderr
+
+
+# --- Window mode ----------------------------------------------------------------------
+
+def window_command(out, *args):
+    return ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / "A1_gl33_fragment"),
+            "--window", "--width", "32", "--height", "32", "--out", str(out), "--json",
+            *map(str, args)]
+
+
+@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
+def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path):
+    out = tmp_path / "window.pfm"
+    result = subprocess.run(window_command(out, "--frames", 20, "--frame-samples", 3,
+                                           "--script-camera-move"),
+                            capture_output=True, text=True, timeout=120,
+                            env={**os.environ, **GL33})
+    assert result.returncode == 0, result.stderr
+    stats = json.loads(result.stdout.strip().splitlines()[-1])
+    assert stats["gl_version"].startswith("3.3"), stats
+    # Frames 0 and 1 add 3 samples each, frame 2 moves and starts over, 2..19 add 3 each.
+    assert stats["samples_per_pixel"] == 18 * 3
+    assert stats["camera_z"] < 3.9 - 0.5
+    assert read_pfm(out)[..., :3].mean() > 0.05
+
+
+@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
+def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path):
+    shaders = copy_shaders("A1", tmp_path)
+    main_shader = shaders / "path.frag"
+    good = main_shader.read_text()
+    out = tmp_path / "window.pfm"
+    process = subprocess.Popen(window_command(out, "--frames", 600, "--frame-samples", 1,
+                                              "--shader-dir", shaders),
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, **GL33})
+    lines: list[str] = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+
+    def wait_for(text, seconds=30):
+        deadline = time.time() + seconds
+        while time.time() < deadline:
+            if any(text in line for line in list(lines)):
+                return True
+            if process.poll() is not None:
+                return False
+            time.sleep(0.05)
+        return False
+
+    try:
+        time.sleep(1.0)
+        painted = good.replace("newMean = vec4(mean, 1.0);",
+                               "newMean = vec4(0.25, 0.5, 0.75, 1.0);")
+        assert painted != good
+        main_shader.write_text(painted)
+        assert wait_for("reloaded path.frag"), "".join(lines)
+        main_shader.write_text(good.replace("void main() {", "void main() { oops"))
+        assert wait_for("keeping the last program"), "".join(lines)
+        assert "path.frag:" in "".join(lines)
+        assert process.poll() is None, "the broken shader ended the program"
+        process.communicate(timeout=120)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 0, "".join(lines)
+    assert np.allclose(read_pfm(out)[..., :3], [0.25, 0.5, 0.75])
