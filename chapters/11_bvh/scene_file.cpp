@@ -4,11 +4,9 @@
 // is checked at the end.
 #include "scene_file.h"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <system_error>
@@ -18,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "course/error.h"
+#include "text_file.h"
 
 namespace {
 
@@ -36,17 +35,6 @@ constexpr const char* kNameRule =
 // Characters and words
 // ---------------------------------------------------------------------------------------
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }  // \r: CR LF files
-
-// A text file has no control bytes except tab, CR and LF (LF never reaches a line).
-bool isControlByte(char c) {
-    const unsigned char byte = static_cast<unsigned char>(c);
-    return (byte < 0x20 && c != '\t' && c != '\r') || byte == 0x7f;
-}
-
-bool isLetter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-
 // Material and shape names: letters, digits, '_' and '-', starting with a letter or '_'.
 bool isName(std::string_view word) {
     if (!isLetter(word[0]) && word[0] != '_')
@@ -57,70 +45,9 @@ bool isName(std::string_view word) {
     return true;
 }
 
-// Cuts the next blank-separated word off the front of `rest`; "" at the end of the line.
-std::string_view nextWord(std::string_view& rest) {
-    size_t start = 0;
-    while (start < rest.size() && isBlank(rest[start]))
-        ++start;
-    size_t end = start;
-    while (end < rest.size() && !isBlank(rest[end]))
-        ++end;
-    const std::string_view word = rest.substr(start, end - start);
-    rest.remove_prefix(end);
-    return word;
-}
-
-// 'word' for a message, cut short so that one huge garbage word gives a short message.
-std::string inQuotes(std::string_view word) {
-    constexpr size_t kShown = 40;
-    if (word.size() <= kShown)
-        return "'" + std::string(word) + "'";
-    return "'" + std::string(word.substr(0, kShown)) + "...'";
-}
-
-// ---------------------------------------------------------------------------------------
-// Files
-// ---------------------------------------------------------------------------------------
-
-// Messages name absolute paths, so "cannot open" says exactly where we looked.
-std::string absolutePath(const fs::path& path) {
-    std::error_code error;
-    const fs::path absolute = fs::absolute(path, error);
-    return error ? path.string() : absolute.lexically_normal().string();
-}
-
 bool isRegularFile(const fs::path& path) {
     std::error_code error;
     return fs::is_regular_file(path, error);
-}
-
-std::string readWholeFile(const std::string& path, const std::string& shownPath) {
-    std::error_code error;
-    const fs::file_status status = fs::status(path, error);
-    if (fs::is_directory(status))
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
-    if (fs::exists(status) && !fs::is_regular_file(status))  // a pipe, /dev/zero, ...
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
-    const std::uintmax_t size = fs::file_size(path, error);
-    if (!error && size > kMostBytes)
-        course::fail(ExitCode::BadInput, shownPath + ": too large for a scene file: " +
-                                             std::to_string(size) + " bytes, over 16 MiB");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file)
-        course::fail(ExitCode::BadInput,
-                     shownPath + ": cannot open (" + std::strerror(errno) + ")");
-    std::string text;
-    char chunk[1 << 16];
-    size_t count = 0;
-    while ((count = std::fread(chunk, 1, sizeof chunk, file)) > 0 && text.size() <= kMostBytes)
-        text.append(chunk, count);
-    const bool failed = std::ferror(file) != 0;
-    std::fclose(file);
-    if (failed)
-        course::fail(ExitCode::BadInput, shownPath + ": cannot read the file");
-    if (text.size() > kMostBytes)  // the file grew while we read it
-        course::fail(ExitCode::BadInput, shownPath + ": too large for a scene file");
-    return text;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -446,8 +373,8 @@ private:
         std::string tried;
         for (const fs::path& candidate : candidates) {
             if (isRegularFile(candidate))
-                return absolutePath(candidate);
-            tried += (tried.empty() ? "" : ", ") + absolutePath(candidate);
+                return absolutePath(candidate.string());
+            tried += (tried.empty() ? "" : ", ") + absolutePath(candidate.string());
         }
         fail("mesh file " + inQuotes(written) + " not found (looked for " + tried + ")");
     }
@@ -483,7 +410,7 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
 
 SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders) {
     const std::string shownPath = absolutePath(path);
-    const std::string text = readWholeFile(path, shownPath);
+    const std::string text = readWholeFile(path, kMostBytes, "a scene file");
     return parseSceneText(text, shownPath, meshFolders);
 }
 // --8<-- [end:load]

@@ -9,16 +9,10 @@ if(NOT TARGET course_assets)
 endif()
 
 set(_bvh_dir ${CMAKE_SOURCE_DIR}/chapters/11_bvh)
-# The OBJ reader is chapter 07's lesson, copied forward; any checkpoint's copy will do.
-if(EXISTS ${_bvh_dir}/obj_loader.cpp)
-  set(_bvh_obj_dir ${_bvh_dir})
-else()
-  set(_bvh_obj_dir ${CMAKE_SOURCE_DIR}/chapters/07_obj_teapot)
-endif()
-
 foreach(test test_bvh test_bvh_gpu)
-  add_unit_test(${test} ${test}.cpp ${_bvh_dir}/bvh.cpp ${_bvh_obj_dir}/obj_loader.cpp)
-  target_include_directories(${test} PRIVATE ${_bvh_dir} ${_bvh_obj_dir}
+  add_unit_test(${test} ${test}.cpp ${_bvh_dir}/bvh.cpp ${_bvh_dir}/obj_loader.cpp
+    ${_bvh_dir}/text_file.cpp)
+  target_include_directories(${test} PRIVATE ${_bvh_dir}
     ${CMAKE_SOURCE_DIR}/shaders/11_bvh)
   target_compile_definitions(${test} PRIVATE
     COURSE_GENERATED_ASSET_DIR="${COURSE_GENERATED_ASSET_DIR}")
@@ -26,4 +20,3 @@ foreach(test test_bvh test_bvh_gpu)
   add_dependencies(${test} course_assets course_benchmark_assets)
 endforeach()
 unset(_bvh_dir)
-unset(_bvh_obj_dir)

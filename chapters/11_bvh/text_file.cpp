@@ -1,0 +1,94 @@
+#include "text_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+#include "course/error.h"
+
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+bool isControlByte(char c) {
+    const unsigned char byte = static_cast<unsigned char>(c);
+    return (byte < 0x20 && c != '\t' && c != '\r') || byte == 0x7f;
+}
+
+bool isLetter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+
+std::string_view nextWord(std::string_view& rest) {
+    size_t start = 0;
+    while (start < rest.size() && isBlank(rest[start]))
+        ++start;
+    size_t end = start;
+    while (end < rest.size() && !isBlank(rest[end]))
+        ++end;
+    const std::string_view word = rest.substr(start, end - start);
+    rest.remove_prefix(end);
+    return word;
+}
+
+std::string inQuotes(std::string_view word) {
+    constexpr size_t kShown = 40;
+    if (word.size() <= kShown)
+        return "'" + std::string(word) + "'";
+    return "'" + std::string(word.substr(0, kShown)) + "...'";
+}
+
+std::string absolutePath(const std::string& path) {
+    std::error_code error;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, error);
+    return error ? path : absolute.lexically_normal().string();
+}
+
+namespace {
+
+// 16777216 bytes as "16 MiB", 4294967296 as "4 GiB".
+std::string inBinaryUnits(std::uintmax_t bytes) {
+    if (bytes >= (std::uintmax_t(1) << 30) && bytes % (std::uintmax_t(1) << 30) == 0)
+        return std::to_string(bytes >> 30) + " GiB";
+    if (bytes >= (std::uintmax_t(1) << 20) && bytes % (std::uintmax_t(1) << 20) == 0)
+        return std::to_string(bytes >> 20) + " MiB";
+    return std::to_string(bytes) + " bytes";
+}
+
+}  // namespace
+
+std::string readWholeFile(const std::string& path, std::uintmax_t mostBytes,
+                          const std::string& kind) {
+    namespace fs = std::filesystem;
+    using course::ExitCode;
+    const std::string shownPath = absolutePath(path);
+    std::error_code error;
+    const fs::file_status status = fs::status(path, error);
+    if (fs::is_directory(status))
+        course::fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
+    if (fs::exists(status) && !fs::is_regular_file(status))
+        course::fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
+    const std::string tooLarge = shownPath + ": too large for " + kind;
+    const std::uintmax_t size = fs::file_size(path, error);
+    if (!error && size > mostBytes)
+        course::fail(ExitCode::BadInput, tooLarge + ": " + std::to_string(size) +
+                                             " bytes, over " + inBinaryUnits(mostBytes));
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file)
+        course::fail(ExitCode::BadInput,
+                     shownPath + ": cannot open (" + std::strerror(errno) + ")");
+
+    std::string text;
+    if (!error)
+        text.reserve(size);  // one allocation; the loop below still reads to the end
+    char chunk[1 << 16];
+    size_t count = 0;
+    while ((count = std::fread(chunk, 1, sizeof chunk, file)) > 0 && text.size() <= mostBytes)
+        text.append(chunk, count);
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed)
+        course::fail(ExitCode::BadInput, shownPath + ": cannot read the file");
+    if (text.size() > mostBytes)  // the file grew while it was read
+        course::fail(ExitCode::BadInput, tooLarge);
+    return text;
+}
