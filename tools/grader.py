@@ -95,11 +95,35 @@ def describe_exit(code) -> str:
 
 # ---------------------------------------------------------------- building
 
+def object_key(root: Path, chapter: str, source_dir: Path, source: Path,
+               arguments: list[str]) -> str:
+    """What a compiled object depends on, hashed: the compiler's arguments (with the
+    submission's folder and the output left out), the source, every header of the
+    submission's chapter and shader folders, and the common layer's headers. Two
+    submissions that share a file (a starter and its solution share all but a few)
+    then share its object."""
+    digest = hashlib.sha256()
+    for argument in arguments:
+        digest.update(argument.replace(str(source_dir), "<submission>").encode() + b"\0")
+    headers = [*sorted((source_dir / "chapters" / chapter).glob("*.h")),
+               *sorted((source_dir / "shaders" / chapter).glob("*.h")),
+               *sorted((root / "common" / "course").glob("*.h"))]
+    for path in [source, *headers]:
+        digest.update(str(path.relative_to(source_dir if source_dir in path.parents
+                                           else root)).encode() + b"\0")
+        digest.update(path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
 def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
                        workdir: Path) -> tuple[Path | None, str]:
-    """Compiles the submission's chapter sources like CMake compiled the solution."""
+    """Compiles the submission's chapter sources like CMake compiled the solution.
+    Objects are kept in build/grading/objects by what they depend on (object_key), so a
+    file that many submissions leave as it was is compiled once."""
     commands = json.loads((build / "compile_commands.json").read_text())
     objects, log = [], ""
+    cache = build / "grading" / "objects"
+    cache.mkdir(parents=True, exist_ok=True)
     sources = sorted((source_dir / "chapters" / chapter).glob("*.cpp"))
     if not sources:
         return None, f"no .cpp files in chapters/{chapter}/ of the submission"
@@ -115,12 +139,22 @@ def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
                               str(source_dir / "shaders" / chapter))
                      for a in shlex.split(entry["command"])]
         target = workdir / (source.stem + ".o")
-        arguments[arguments.index("-o") + 1] = str(target)
         arguments[arguments.index("-c") + 1] = str(source)
-        code, output = run_limited(arguments, workdir, timeout=COMPILE_SECONDS)
-        log += output
-        if code != 0:
-            return None, f"compiling {source.name} failed ({describe_exit(code)}):\n{log}"
+        output_index = arguments.index("-o") + 1
+        cached = cache / (object_key(root, chapter, source_dir, source,
+                                     arguments[:output_index - 1] +
+                                     arguments[output_index + 1:]) + ".o")
+        arguments[output_index] = str(target)
+        if cached.exists():
+            shutil.copyfile(cached, target)
+        else:
+            code, output = run_limited(arguments, workdir, timeout=COMPILE_SECONDS)
+            log += output
+            if code != 0:
+                return None, f"compiling {source.name} failed ({describe_exit(code)}):\n{log}"
+            partial = cached.with_suffix(f".{os.getpid()}.partial")
+            shutil.copyfile(target, partial)
+            partial.replace(cached)  # whole or not at all, even with two graders at once
         objects.append(str(target))
     program = workdir / chapter
     link = ["g++", *objects, "-o", str(program), str(build / "common" / "libcourse_common.a"),

@@ -114,7 +114,7 @@ SPECS: dict[str, list[GradeTest]] = {
         # six-bounce paths short) and do the same work: --view cost shows each pixel's
         # traversal steps, which depend on the SAH's tree and the box test.
         GradeTest("teapot in the Cornell box, six bounces", 4,
-                  ["--width", "48", "--height", "48", "--spp", "2", "--seed", "7"]),
+                  ["--width", "32", "--height", "32", "--spp", "2", "--seed", "7"]),
         GradeTest("traversal work per pixel (--view cost)", 4,
                   ["--width", "64", "--height", "64", "--spp", "1", "--view", "cost"]),
         GradeTest("gems, traversal work per pixel", 2,

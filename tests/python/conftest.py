@@ -9,6 +9,8 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -130,6 +132,57 @@ def copy_shaders(prefix: str, destination: Path) -> Path:
 
 def xvfb_available() -> bool:
     return shutil.which("xvfb-run") is not None
+
+
+def window_command(prefix: str, out: Path, *args) -> list[str]:
+    """A chapter in a 32 x 32 window on a virtual X server, writing `out` at the end."""
+    return ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / chapter_name(prefix)),
+            "--window", "--width", "32", "--height", "32", "--out", str(out), "--json",
+            *map(str, args)]
+
+
+def check_hot_reload(prefix: str, shaders: Path, shader: str, paint: tuple[str, str],
+                     out: Path, *args, env: dict | None = None) -> np.ndarray:
+    """Runs the chapter in a window with its shaders from `shaders`, then edits `shader`
+    twice while it runs: `paint` (old, new) swaps a line for one that paints every pixel
+    a fixed colour, which must be reloaded; then a compile error, which must be reported
+    (file:line) while the program goes on with the last good program. Returns the image
+    the window wrote at the end (linear), for the caller to check the colour."""
+    path = shaders / shader
+    good = path.read_text()
+    painted = good.replace(*paint)
+    assert painted != good, f"{paint[0]!r} is not in {shader}"
+    process = subprocess.Popen(window_command(prefix, out, "--shader-dir", shaders, *args),
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, **(env or {})})
+    lines: list[str] = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+
+    def wait_for(text, seconds=30):
+        deadline = time.time() + seconds
+        while time.time() < deadline:
+            if any(text in line for line in list(lines)):
+                return True
+            if process.poll() is not None:
+                return False
+            time.sleep(0.05)
+        return False
+
+    try:
+        time.sleep(1.0)
+        path.write_text(painted)
+        assert wait_for(f"reloaded {shader}"), "".join(lines)
+        path.write_text(good.replace("void main() {", "void main() { oops"))
+        assert wait_for("keeping the last program"), "".join(lines)
+        assert f"{shader}:" in "".join(lines)
+        assert process.poll() is None, "the broken shader ended the program"
+        process.communicate(timeout=120)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 0, "".join(lines)
+    return read_pfm(out)[..., :3]
 
 
 @pytest.fixture(scope="session")

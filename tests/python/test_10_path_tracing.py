@@ -11,15 +11,13 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import subprocess
-import threading
-import time
 
 import numpy as np
 import pytest
 
-from conftest import BIN, ROOT, copy_shaders, read_pfm, run_chapter, xvfb_available
+from conftest import (ROOT, check_hot_reload, copy_shaders, read_pfm, run_chapter,
+                      window_command, xvfb_available)
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 # Regions with a single pixel (the light, at 48 x 48) have no spread: numpy warns, and
@@ -265,16 +263,10 @@ def test_unknown_scene_name_names_the_path_tried(tmp_path):
 
 # --- Window mode ----------------------------------------------------------------------
 
-def window_command(out, *args):
-    return ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / "10_path_tracing"),
-            "--window", "--width", "32", "--height", "32", "--out", str(out), "--json",
-            *map(str, args)]
-
-
 @pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
 def test_window_refines_and_a_camera_move_starts_over(tmp_path):
     out = tmp_path / "window.pfm"
-    result = subprocess.run(window_command(out, "--frames", 40, "--script-camera-move"),
+    result = subprocess.run(window_command("10", out, "--frames", 40, "--script-camera-move"),
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
@@ -286,43 +278,8 @@ def test_window_refines_and_a_camera_move_starts_over(tmp_path):
 
 @pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
 def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path):
-    shaders = copy_shaders("10", tmp_path)
-    main_shader = shaders / "path.comp"
-    good = main_shader.read_text()
-    out = tmp_path / "window.pfm"
-    process = subprocess.Popen(window_command(out, "--frames", 1500, "--shader-dir", shaders),
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    lines: list[str] = []
-    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-    reader.start()
-
-    def wait_for(text, seconds=30):
-        deadline = time.time() + seconds
-        while time.time() < deadline:
-            if any(text in line for line in list(lines)):
-                return True
-            if process.poll() is not None:
-                return False
-            time.sleep(0.05)
-        return False
-
-    try:
-        time.sleep(1.0)
-        # A changed shader: every pixel a fixed colour.
-        painted = good.replace("pixels[index] = vec4(mean, 1.0);",
-                               "pixels[index] = vec4(0.25, 0.5, 0.75, 1.0);")
-        assert painted != good
-        main_shader.write_text(painted)
-        assert wait_for("reloaded path.comp"), "".join(lines)
-        # A broken one: the error, and the program goes on with the last good one.
-        main_shader.write_text(good.replace("void main() {", "void main() { oops"))
-        assert wait_for("keeping the last program"), "".join(lines)
-        assert "path.comp:" in "".join(lines)
-        assert process.poll() is None, "the broken shader ended the program"
-        stdout, _ = process.communicate(timeout=120)
-    finally:
-        if process.poll() is None:
-            process.kill()
-    assert process.returncode == 0, "".join(lines)
-    image = read_pfm(out)[..., :3]
+    image = check_hot_reload("10", copy_shaders("10", tmp_path), "path.comp",
+                             ("pixels[index] = vec4(mean, 1.0);",
+                              "pixels[index] = vec4(0.25, 0.5, 0.75, 1.0);"),
+                             tmp_path / "window.pfm", "--frames", 1500)
     assert np.allclose(image, [0.25, 0.5, 0.75])

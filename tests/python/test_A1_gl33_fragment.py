@@ -12,15 +12,14 @@ import json
 import os
 import re
 import subprocess
-import threading
-import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import BIN, ROOT, copy_shaders, read_pfm, run_chapter, xvfb_available
+from conftest import (ROOT, check_hot_reload, copy_shaders, read_pfm, run_chapter,
+                      window_command, xvfb_available)
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
 SIGMAS = 4.5  # as chapter 10's checks: a correct renderer fails 1 in ~150,000
@@ -262,16 +261,10 @@ def test_too_many_loop_iterations_are_refused_as_in_chapter_10(tmp_path):
 
 # --- Window mode ----------------------------------------------------------------------
 
-def window_command(out, *args):
-    return ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / "A1_gl33_fragment"),
-            "--window", "--width", "32", "--height", "32", "--out", str(out), "--json",
-            *map(str, args)]
-
-
 @pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
 def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path):
     out = tmp_path / "window.pfm"
-    result = subprocess.run(window_command(out, "--frames", 20, "--frame-samples", 3,
+    result = subprocess.run(window_command("A1", out, "--frames", 20, "--frame-samples", 3,
                                            "--script-camera-move"),
                             capture_output=True, text=True, timeout=120,
                             env={**os.environ, **GL33})
@@ -286,42 +279,9 @@ def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path):
 
 @pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
 def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path):
-    shaders = copy_shaders("A1", tmp_path)
-    main_shader = shaders / "path.frag"
-    good = main_shader.read_text()
-    out = tmp_path / "window.pfm"
-    process = subprocess.Popen(window_command(out, "--frames", 600, "--frame-samples", 1,
-                                              "--shader-dir", shaders),
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env={**os.environ, **GL33})
-    lines: list[str] = []
-    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-    reader.start()
-
-    def wait_for(text, seconds=30):
-        deadline = time.time() + seconds
-        while time.time() < deadline:
-            if any(text in line for line in list(lines)):
-                return True
-            if process.poll() is not None:
-                return False
-            time.sleep(0.05)
-        return False
-
-    try:
-        time.sleep(1.0)
-        painted = good.replace("newMean = vec4(mean, 1.0);",
-                               "newMean = vec4(0.25, 0.5, 0.75, 1.0);")
-        assert painted != good
-        main_shader.write_text(painted)
-        assert wait_for("reloaded path.frag"), "".join(lines)
-        main_shader.write_text(good.replace("void main() {", "void main() { oops"))
-        assert wait_for("keeping the last program"), "".join(lines)
-        assert "path.frag:" in "".join(lines)
-        assert process.poll() is None, "the broken shader ended the program"
-        process.communicate(timeout=120)
-    finally:
-        if process.poll() is None:
-            process.kill()
-    assert process.returncode == 0, "".join(lines)
-    assert np.allclose(read_pfm(out)[..., :3], [0.25, 0.5, 0.75])
+    image = check_hot_reload("A1", copy_shaders("A1", tmp_path), "path.frag",
+                             ("newMean = vec4(mean, 1.0);",
+                              "newMean = vec4(0.25, 0.5, 0.75, 1.0);"),
+                             tmp_path / "window.pfm", "--frames", 600, "--frame-samples", 1,
+                             env=GL33)
+    assert np.allclose(image, [0.25, 0.5, 0.75])

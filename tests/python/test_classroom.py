@@ -1,8 +1,6 @@
 """Classroom: solution markers are well formed everywhere, and a starter release builds,
 runs, and draws a wrong picture instead of crashing."""
 
-import json
-import shlex
 import subprocess
 import sys
 
@@ -12,6 +10,7 @@ from conftest import ROOT, assert_images_agree, read_image
 
 sys.path.insert(0, str(ROOT / "tools"))
 import classroom  # noqa: E402
+import grader  # noqa: E402
 
 BUILD = ROOT / "build"
 
@@ -47,28 +46,12 @@ def released_chapters():
 
 
 def compile_starter(starter, chapter):
-    """Compiles the starter's host code with the flags CMake used for the solution,
-    pointed at the starter's folders, and links it with the instructor's common layer."""
-    commands = json.loads((BUILD / "compile_commands.json").read_text())
-    objects = []
-    for source in sorted((starter / "chapters" / chapter).glob("*.cpp")):
-        original = ROOT / "chapters" / chapter / source.name
-        entry = next(c for c in commands if c["file"] == str(original))
-        arguments = shlex.split(entry["command"])
-        swapped = [a.replace(str(ROOT / "chapters" / chapter), str(starter / "chapters" / chapter))
-                   .replace(str(ROOT / "shaders" / chapter), str(starter / "shaders" / chapter))
-                   for a in arguments]
-        out = starter / (source.stem + ".o")
-        swapped[swapped.index("-o") + 1] = str(out)
-        swapped[swapped.index("-c") + 1] = str(source)
-        result = subprocess.run(swapped, capture_output=True, text=True, cwd=entry["directory"])
-        assert result.returncode == 0, result.stderr
-        objects.append(str(out))
-    program = starter / chapter
-    link = ["g++", *objects, "-o", str(program), str(BUILD / "common" / "libcourse_common.a"),
-            str(BUILD / "libglad.a"), "-lEGL", "-lglfw", "-ldl", "-lpthread"]
-    result = subprocess.run(link, capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr
+    """Compiles the starter's host code as the grader compiles a submission: with the
+    flags CMake used for the solution, linked with the instructor's common layer."""
+    workdir = starter / "build-starter"
+    workdir.mkdir()
+    program, log = grader.compile_submission(ROOT, BUILD, chapter, starter, workdir)
+    assert program is not None, log
     return program
 
 
