@@ -192,6 +192,8 @@ std::unique_ptr<GlContext> tryDisplay(const Candidate& candidate, GlVersion requ
 
 }  // namespace
 
+bool eglBuiltIn() { return true; }
+
 std::unique_ptr<GlContext> createEglContext(GlVersion required) {
     std::string reasons;
     for (const Candidate& candidate : candidateDisplays()) {

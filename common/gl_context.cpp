@@ -76,18 +76,40 @@ std::unique_ptr<GlContext> createGlContext(const Options& options, GlVersion req
     switch (options.backend) {
         case Backend::Egl: return createEglContext(required);
         case Backend::OsMesa: return createOsMesaContext(required);
-        case Backend::Glfw: return createGlfwContext(required, options, windowTitle);
+        case Backend::Glfw:  // --backend glfw --headless: a window that is never shown
+            return createGlfwContext(required, options, windowTitle, /*visible=*/false);
         case Backend::Auto: break;
     }
     // Headless by default: EGL (a GPU, or Mesa without a display); OSMesa if EGL fails
     // for a reason other than an old GL version.
-    try {
-        return createEglContext(required);
-    } catch (const GlTooOld&) {
-        throw;  // OSMesa is the same Mesa: it would be too old as well
-    } catch (const Failure& eglFailure) {
-        logInfo(std::string("EGL failed (") + eglFailure.what() + "), trying OSMesa");
+    if (eglBuiltIn()) {
+        try {
+            return createEglContext(required);
+        } catch (const GlTooOld&) {
+            throw;  // OSMesa is the same Mesa: it would be too old as well
+        } catch (const Failure& eglFailure) {
+            logInfo(std::string("EGL failed (") + eglFailure.what() + "), trying OSMesa");
+        }
         return createOsMesaContext(required);
+    }
+    // A build without EGL (macOS): OSMesa if it is installed, else a hidden GLFW window,
+    // which on a Mac gives the system's OpenGL 4.1.
+    try {
+        return createOsMesaContext(required);
+    } catch (const GlTooOld&) {
+        throw;
+    } catch (const Failure& osmesaFailure) {
+        logInfo(std::string("OSMesa failed (") + osmesaFailure.what() +
+                "), trying a hidden GLFW window");
+        try {
+            return createGlfwContext(required, options, windowTitle, /*visible=*/false);
+        } catch (const GlTooOld&) {
+            throw;  // on a Mac: the compute chapters need 4.3, macOS has 4.1
+        } catch (const Failure& glfwFailure) {
+            fail(ExitCode::GlProblem,
+                 std::string("no headless OpenGL context (this build has no EGL):\n  ") +
+                     osmesaFailure.what() + "\n  " + glfwFailure.what());
+        }
     }
 }
 

@@ -1,5 +1,7 @@
 // A window through GLFW: for watching a checkpoint render (--window). Headless runs
-// never touch GLFW, so they work where there is no display at all.
+// use EGL or OSMesa where they can, so they work with no display at all; where there
+// is neither (macOS), or with --backend glfw --headless, a window that is never shown
+// holds the context instead.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
@@ -10,32 +12,47 @@ namespace course {
 namespace {
 
 std::string lastGlfwError;
-void rememberGlfwError(int, const char* description) { lastGlfwError = description; }
+int lastGlfwErrorCode = 0;
+void rememberGlfwError(int code, const char* description) {
+    lastGlfwError = description;
+    lastGlfwErrorCode = code;
+}
 
 class GlfwContext : public GlContext {
 public:
-    explicit GlfwContext(GLFWwindow* window) : window_(window) {}
+    GlfwContext(GLFWwindow* window, bool visible) : window_(window), visible_(visible) {}
     ~GlfwContext() override {
         glfwDestroyWindow(window_);
 #ifndef COURSE_SANITIZE_BUILD
         glfwTerminate();  // sanitizer builds keep the GL driver loaded: see egl_context.cpp
 #endif
     }
-    std::string backendName() const override { return "glfw"; }
-    GLFWwindow* window() override { return window_; }
+    std::string backendName() const override {
+        return visible_ ? "glfw" : "glfw (hidden window)";
+    }
+    GLFWwindow* window() override { return visible_ ? window_ : nullptr; }
 
 private:
     GLFWwindow* window_;
+    bool visible_;
 };
 
 }  // namespace
 
 std::unique_ptr<GlContext> createGlfwContext(GlVersion required, const Options& options,
-                                             const std::string& title) {
+                                             const std::string& title, bool visible) {
     glfwSetErrorCallback(rememberGlfwError);
+    if (!visible) {
+        // macOS only (ignored elsewhere): no menu bar for a program that shows nothing,
+        // and keep the working folder, where --out's relative paths point.
+        glfwInitHint(GLFW_COCOA_MENUBAR, GLFW_FALSE);
+        glfwInitHint(GLFW_COCOA_CHDIR_RESOURCES, GLFW_FALSE);
+    }
     if (!glfwInit())
-        fail(ExitCode::GlProblem, "GLFW: cannot open a window (" + lastGlfwError +
-                                      "); is there a display? Use --headless without one.");
+        fail(ExitCode::GlProblem,
+             "GLFW: cannot open a window (" + lastGlfwError + "); is there a display? " +
+                 (visible ? "Use --headless without one."
+                          : "A hidden window needs one too."));
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, required.major);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, required.minor);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -43,20 +60,28 @@ std::unique_ptr<GlContext> createGlfwContext(GlVersion required, const Options& 
 #ifndef NDEBUG
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
 #endif
-    GLFWwindow* window =
-        glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+    // Hidden: the window only holds the context. Chapters render into their own
+    // buffers, never its framebuffer, so its size does not matter.
+    glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+    GLFWwindow* window = visible ? glfwCreateWindow(options.width, options.height,
+                                                    title.c_str(), nullptr, nullptr)
+                                 : glfwCreateWindow(16, 16, title.c_str(), nullptr, nullptr);
     if (!window) {
         std::string reason = lastGlfwError;
+        int code = lastGlfwErrorCode;
         glfwTerminate();
-        if (reason.find("version") != std::string::npos)
+        // GLX (Mesa) and NSGL (macOS, which stops at 4.1) report a version they cannot
+        // make with this code; the message does not always say "version".
+        if (code == GLFW_VERSION_UNAVAILABLE ||
+            reason.find("version") != std::string::npos)
             failTooOld(required, "less (" + reason + ")", "the window system");
         fail(ExitCode::GlProblem, "GLFW: could not create a window: " + reason);
     }
     glfwMakeContextCurrent(window);
-    glfwSwapInterval(1);  // vsync: no point drawing frames the screen cannot show
-    auto context = std::make_unique<GlfwContext>(window);
+    if (visible) glfwSwapInterval(1);  // vsync: no use drawing frames nobody sees
+    auto context = std::make_unique<GlfwContext>(window, visible);
     loadGlAndCheckVersion(reinterpret_cast<GlProcLoader>(glfwGetProcAddress), required,
-                          "glfw");
+                          context->backendName());
     return context;
 }
 

@@ -144,9 +144,10 @@ def release(root: Path, chapter: str, out: Path) -> Path:
         else:
             shutil.copy2(source, target)
 
+    # third_party: the pinned stb header, which a Mac (no libstb-dev) builds with.
     for relative in ("course", "requirements.txt", "tools/course.py", "cmake", "common",
-                     "tests/python/conftest.py", "tests/python/test_command_line.py",
-                     ".gitignore"):
+                     "third_party", "tests/python/conftest.py",
+                     "tests/python/test_command_line.py", ".gitignore"):
         copy(relative)
     if (root / "assets" / "data").exists():
         copy("assets/data")  # small source data (the teapot patches) the build may use

@@ -1,4 +1,5 @@
-// Where GL calls go: an off-screen context (EGL or OSMesa) or a GLFW window.
+// Where GL calls go: an off-screen context (EGL, OSMesa, or a GLFW window that is
+// never shown) or a GLFW window.
 // Chapters never create contexts themselves; course::Session does it from the options.
 #pragma once
 #include <memory>
@@ -20,7 +21,8 @@ class GlContext {
 public:
     virtual ~GlContext() = default;
     virtual std::string backendName() const = 0;   // "egl (surfaceless)", "osmesa", ...
-    virtual GLFWwindow* window() { return nullptr; }  // only the GLFW backend has one
+    // Only a shown GLFW window: a hidden one (headless) has nothing to show or read.
+    virtual GLFWwindow* window() { return nullptr; }
 };
 
 // Creates the context the options ask for, loads GL functions with GLAD, checks the
@@ -43,9 +45,12 @@ void loadGlAndCheckVersion(GlProcLoader loader, GlVersion required,
 [[noreturn]] void failTooOld(GlVersion required, const std::string& have,
                              const std::string& backend);
 
+bool eglBuiltIn();  // false in builds without EGL (macOS): egl_unavailable.cpp
 std::unique_ptr<GlContext> createEglContext(GlVersion required);
 std::unique_ptr<GlContext> createOsMesaContext(GlVersion required);
+// visible = false: a window that is never shown, only to hold a context (headless
+// where there is neither EGL nor OSMesa, as on macOS).
 std::unique_ptr<GlContext> createGlfwContext(GlVersion required, const Options& options,
-                                             const std::string& title);
+                                             const std::string& title, bool visible = true);
 
 }  // namespace course

@@ -1,0 +1,92 @@
+"""What makes the course build and run on macOS, checked on Linux.
+
+macOS has no EGL and no OSMesa, so a headless run there holds its context in a GLFW
+window that is never shown. Here that path runs under Xvfb (--backend glfw --headless)
+and must give the EGL image bit for bit. A build without EGL (-DCOURSE_WITH_EGL=OFF,
+the default on macOS) is only configured here, not built: a second build would double
+the suite's time. Building it and running `--backend egl` in it (a clear refusal, exit
+code 4) is a manual check, described in book/docs/testing.md."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from conftest import BIN, ROOT, read_pfm, run_chapter, xvfb_available
+
+GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
+A1_OPTIONS = ("--width", "32", "--height", "32", "--spp", "8", "--seed", "7")
+
+
+def render_headless(prefix: str, out, backend: str, *args, env=None, xvfb=False):
+    """Renders headless with --json; returns (image, statistics)."""
+    program = next(p for p in BIN.iterdir() if p.name.startswith(prefix + "_"))
+    command = [str(program), "--headless", "--backend", backend, "--out", str(out),
+               "--json", *map(str, args)]
+    if xvfb:
+        command = ["xvfb-run", "-a", "-s", "-screen 0 320x240x24", *command]
+    environment = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    result = subprocess.run(command, capture_output=True, text=True, timeout=180,
+                            env={**environment, **(env or {})})
+    assert result.returncode == 0, result.stderr
+    return read_pfm(out), json.loads(result.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
+@pytest.mark.parametrize("prefix, args, env", [
+    ("A1", A1_OPTIONS, GL33),                      # the macOS route, on a 3.3 context
+    ("02", ("--width", "40", "--height", "24"), {}),  # a compute chapter, GL 4.3
+])
+def test_hidden_glfw_window_renders_the_egl_image(tmp_path, prefix, args, env):
+    egl, _ = render_headless(prefix, tmp_path / "egl.pfm", "egl", *args, env=env)
+    hidden, stats = render_headless(prefix, tmp_path / "hidden.pfm", "glfw", *args,
+                                    env=env, xvfb=True)
+    assert stats["backend"] == "glfw (hidden window)"
+    if env:
+        assert stats["gl_version"].startswith("3.3"), stats
+    assert egl.mean() > 0.01, "a black picture would make the comparison vacuous"
+    assert np.array_equal(hidden, egl), "the hidden window's image differs from EGL's"
+
+
+def test_hidden_glfw_window_without_a_display_is_exit_4(tmp_path):
+    result = run_chapter("A1", "--headless", "--backend", "glfw", "--out",
+                         tmp_path / "never.png", env=GL33)
+    assert result.returncode == 4, result.stderr
+    assert "hidden window needs one too" in result.stderr
+    assert not (tmp_path / "never.png").exists()
+
+
+def test_a_build_without_egl_and_system_stb_configures(tmp_path):
+    """Configure only (a few seconds): no EGL source, the stand-in that refuses
+    --backend egl, and the pinned stb header."""
+    started = time.time()
+    result = subprocess.run(
+        ["cmake", "-S", str(ROOT), "-B", str(tmp_path / "build"), "-G", "Ninja",
+         "-DCOURSE_WITH_EGL=OFF", "-DCOURSE_VENDORED_STB=ON", "-DCOURSE_UNIT_TESTS=OFF",
+         f"-DPython3_EXECUTABLE={sys.executable}"],
+        capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "building without EGL" in result.stdout
+    assert "stb_image_write from third_party/stb" in result.stdout
+    assert "C++ unit tests off" in result.stdout
+    ninja = (tmp_path / "build" / "build.ninja").read_text()
+    assert "common/egl_unavailable.cpp" in ninja
+    assert "common/egl_context.cpp" not in ninja
+    assert "libEGL" not in ninja
+    assert f"-isystem {ROOT}/third_party" in ninja
+    assert time.time() - started < 60, "the configure-only check should stay cheap"
+
+
+def test_the_pinned_stb_header_is_the_one_its_readme_names():
+    import hashlib
+    header = ROOT / "third_party" / "stb" / "stb_image_write.h"
+    text = header.read_bytes()
+    assert text.startswith(b"/* stb_image_write - v1.16 - public domain")
+    digest = hashlib.sha256(text).hexdigest()
+    assert digest in (header.parent / "README.md").read_text()
