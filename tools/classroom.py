@@ -113,6 +113,13 @@ Until you fill in the TODOs, the program builds and runs but draws the wrong pic
 """
 
 
+def has_exercises(root: Path, chapter: str) -> bool:
+    """Does the chapter have SOLUTION blocks to take out? (The appendix has none.)"""
+    return any(find_blocks(path.read_text(), str(path))
+               for top in ("chapters", "shaders") for path in (root / top / chapter).rglob("*")
+               if path.suffix in MARKED_SUFFIXES)
+
+
 def imported_prototypes(test_file: Path, prototypes: Path) -> set[Path]:
     """The python_prototypes modules a chapter's tests import (and what they import)."""
     wanted, queue = set(), [test_file]
@@ -154,7 +161,7 @@ def release(root: Path, chapter: str, out: Path) -> Path:
     for generator in ("python_prototypes/teapot.py", "python_prototypes/gems.py"):
         if (root / generator).exists():
             copy(generator)  # cmake/Assets.cmake runs them at build time
-    if int(number) >= 7:
+    if not number.isdigit() or int(number) >= 7:
         copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
     for test in tests:

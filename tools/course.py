@@ -490,6 +490,9 @@ def cmd_bench(args):
 def cmd_release(args):
     import classroom
     name = find_chapter(args.chapter)
+    if not classroom.has_exercises(ROOT, name):
+        die(f"{name} has no SOLUTION blocks to take out: there is no starter to release",
+            code=2)
     out = Path(args.out) if args.out else BUILD / "release" / f"{name}-starter"
     try:
         classroom.check_all_markers(ROOT)

@@ -39,10 +39,7 @@ def test_strip_keeps_hint_and_stub():
 
 def released_chapters():
     chapters = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.is_dir())
-    return [c for c in chapters
-            if any(classroom.find_blocks(f.read_text(), str(f))
-                   for top in ("chapters", "shaders") for f in (ROOT / top / c).rglob("*")
-                   if f.suffix in classroom.MARKED_SUFFIXES)]
+    return [c for c in chapters if classroom.has_exercises(ROOT, c)]
 
 
 def compile_starter(starter, chapter):
@@ -90,6 +87,15 @@ def test_release_verb_writes_a_starter(tmp_path):
                              "--out", str(tmp_path / "s")], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "s" / "chapters" / "02_first_pixels" / "main.cpp").exists()
+
+
+def test_release_refuses_a_chapter_without_exercises(tmp_path):
+    # The appendix has no SOLUTION blocks: a starter would be the solution itself.
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "release", "A1",
+                             "--out", str(tmp_path / "s")], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert "A1_gl33_fragment has no SOLUTION blocks" in result.stderr
+    assert not (tmp_path / "s").exists()
 
 
 def test_autograder_zip_has_gradescope_entry_points(tmp_path):
