@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, read_pfm, run_chapter
+from conftest import ROOT, copy_shaders, read_pfm, run_chapter
 
 sys.path.insert(0, str(ROOT / "python_prototypes"))
 import camera_rays  # noqa: E402
@@ -58,6 +58,36 @@ def test_camera_rays_hit_the_same_triangles_as_brute_force(tmp_path, mesh, view)
     assert np.mean(np.any(tree != background, axis=-1)) > 0.05
     # ... and every pixel is the same float: the same triangle at the same distance.
     assert np.array_equal(tree, brute), np.argwhere(np.any(tree != brute, axis=-1))[:10]
+
+
+# Plausible traversal bugs, each planted in a copy of the shaders: the comparison with
+# brute force above must catch them (a check that cannot fail is not a check).
+PLANTED_BUGS = {
+    "fourth triangle of a leaf skipped": (
+        "if (count > 3u) bvhTestTriangle(", "if (count > 4u) bvhTestTriangle("),
+    "put-aside child pruned too eagerly": (
+        "if (stackEnter[stackSize] >= t) continue;",
+        "if (stackEnter[stackSize] >= 0.9 * t) continue;"),
+    "far child dropped instead of put aside": (
+        "if (enterFar < t && stackSize < BVH_STACK_SIZE) {",
+        "if (enterFar < 0.0 && stackSize < BVH_STACK_SIZE) {"),
+}
+
+
+@pytest.mark.parametrize("bug", PLANTED_BUGS)
+def test_the_comparison_catches_a_planted_traversal_bug(tmp_path, bug):
+    shaders = copy_shaders("11", tmp_path / "shaders")
+    traversal = shaders / "bvh_traversal.glsl"
+    original, planted = PLANTED_BUGS[bug]
+    text = traversal.read_text()
+    assert original in text, bug
+    traversal.write_text(text.replace(original, planted))
+    scene = room_with(tmp_path, TEAPOT_6320)
+    common = ["--scene", scene, "--width", 64, "--height", 64, "--spp", 1, "--view",
+              "distance"]
+    buggy = render(tmp_path, "11", "buggy", *common, "--shader-dir", shaders)
+    brute = render(tmp_path, "11", "brute", *common, "--brute-force")
+    assert not np.array_equal(buggy, brute), bug
 
 
 def test_random_bounce_rays_find_the_same_hits(tmp_path):
