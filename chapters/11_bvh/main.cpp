@@ -77,9 +77,9 @@ int main(int argc, char** argv) {
         size_t looped = scene.spheres.size() + scene.quads.size();
         if (bruteForce) looped = scene.shapeCount();
         size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
-        checkLoopBudget(looped * rounds,
-                        sceneFile.path, bruteForce ? "Without --brute-force, the tree "
-                        "renders it." : "Fewer spheres and quads, or a lower --depth, fit.");
+        const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
+                                        : "Fewer spheres and quads, or a lower --depth, fit.";
+        checkLoopBudget(looped * rounds, sceneFile.path, wayOut);
         session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("triangles", double(scene.triangles.size()));
         session.stats().set("emitters", double(scene.emitters.size()));
