@@ -152,7 +152,8 @@ def release(root: Path, chapter: str, out: Path) -> Path:
             shutil.copy2(source, target)
 
     # third_party: the pinned stb header, which a Mac (no libstb-dev) builds with.
-    for relative in ("course", "requirements.txt", "tools/course.py", "cmake", "common",
+    for relative in ("course", "requirements", "tools/course.py", "tools/machine_setup.py",
+                     "tools/platforms.py", "tools/platforms.ini", "cmake", "common",
                      "third_party", "tests/python/conftest.py",
                      "tests/python/test_command_line.py", ".gitignore"):
         copy(relative)

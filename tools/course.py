@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The verbs of ./course. The shell wrapper `course` has already installed what the
-machine needs (Debian packages, .venv) for every verb except help, list and diff."""
+"""The verbs of ./course. Each verb first sets up the layer it needs (VERB_LAYERS,
+tools/machine_setup.py), then runs in the course's virtual environment .venv."""
 
 from __future__ import annotations
 
@@ -75,19 +75,39 @@ def build_lock():
         yield
 
 
+def cached_options(build_dir: Path) -> dict[str, str]:
+    """NAME -> value of the CMake cache in build_dir (empty before the first configure)."""
+    cache = build_dir / "CMakeCache.txt"
+    if not cache.exists():
+        return {}
+    entries = re.findall(r"^(\w+):\w+=(.*)$", cache.read_text(), flags=re.M)
+    return dict(entries)
+
+
 def configure(build_type: str = "RelWithDebInfo", build_dir: Path = BUILD,
-              extra: list[str] | None = None):
-    if (build_dir / "build.ninja").exists() and not extra:
+              options: dict[str, str] | None = None):
+    """Configures build_dir unless it is configured with `options` already."""
+    options = options or {}
+    cached = cached_options(build_dir)
+    if (build_dir / "build.ninja").exists() and all(
+            cached.get(name) == value for name, value in options.items()):
         return
     say(f"configuring the CMake build in {build_dir.relative_to(ROOT)}")
     run_checked(["cmake", "-S", str(ROOT), "-B", str(build_dir), "-G", "Ninja",
                  f"-DCMAKE_BUILD_TYPE={build_type}",
-                 f"-DPython3_EXECUTABLE={sys.executable}", *(extra or [])], stdout=sys.stderr)
+                 f"-DPython3_EXECUTABLE={sys.executable}",
+                 *(f"-D{name}={value}" for name, value in options.items())],
+                stdout=sys.stderr)
 
 
-def build(targets: list[str] | None = None):
+# ./course test needs the C++ unit tests, which need the test layer's GoogleTest and
+# tinyobjloader; other verbs build them only if those happen to be there.
+WITH_UNIT_TESTS = {"COURSE_UNIT_TESTS": "ON"}
+
+
+def build(targets: list[str] | None = None, options: dict[str, str] | None = None):
     with build_lock():
-        configure()
+        configure(options=options)
         say("building" + (f" {' '.join(targets)}" if targets else " every chapter"))
         # Build output goes to stderr: stdout carries only results (a path, JSON).
         run_checked(["cmake", "--build", str(BUILD), *(["--target", *targets] if targets else [])],
@@ -110,7 +130,21 @@ def binary(name: str) -> Path:
 def cmd_setup(args):
     with build_lock():
         configure()
-    say("set up: Debian packages, .venv and the CMake build folder are ready")
+    say(f"set up: the '{args.layer}' layer's packages, .venv and the CMake build folder "
+        "are ready")
+
+
+def cmd_packages(args):
+    """The distribution packages of a layer on this platform, one line, for scripts
+    (e.g. a workflow's `sudo apt-get install $(./course packages test)`)."""
+    import platforms
+    try:
+        platform = platforms.this_platform()
+    except platforms.UnknownPlatform as unknown:
+        die(str(unknown), code=2)
+    if platform is None:
+        die("COURSE_PLATFORM=none: the packages are yours to choose", code=2)
+    print(" ".join(platform.layer_packages(args.layer)))
 
 
 def cmd_build(args):
@@ -176,7 +210,7 @@ def sanitizer_environment() -> dict:
 def cmd_test(args):
     if args.sanitize:
         return test_sanitized(args)
-    build()
+    build(options=WITH_UNIT_TESTS)
     started = time.time()
     passed = failed = 0
     if not args.chapter and not args.k:
@@ -242,7 +276,8 @@ def build_sanitized():
     # Unoptimised (the sanitizers look at the host code; the GPU work is llvmpipe's and
     # not instrumented): compiling with ASan at -O2 takes four times as long.
     with build_lock():
-        configure("Debug", build_dir=SANITIZED, extra=["-DCOURSE_SANITIZE=ON"])
+        configure("Debug", build_dir=SANITIZED,
+                  options={"COURSE_SANITIZE": "ON", **WITH_UNIT_TESTS})
         say("building with AddressSanitizer and UndefinedBehaviorSanitizer")
         run_checked(["cmake", "--build", str(SANITIZED)], stdout=sys.stderr)
 
@@ -533,12 +568,40 @@ def cmd_autograder(args):
 
 # ---------------------------------------------------------------- command line
 
+# The set-up layer each verb needs (tools/machine_setup.py); verbs not named here only
+# read files and run with whatever Python started ./course.
+VERB_LAYERS = {"setup": "run", "build": "run", "run": "run", "release": "run",
+               "book": "book", "grade": "grade", "autograder": "grade",
+               "test": "test", "bench": "test", "fuzz": "test"}
+
+
+def set_up_and_enter_venv(layer: str):
+    """Sets up `layer`, then runs this command again in .venv (unless already there)."""
+    import machine_setup
+    if os.environ.get("COURSE_LAYER_READY") != layer:
+        try:
+            machine_setup.ensure(layer)
+        except machine_setup.SetupError as error:
+            die(str(error), code=error.code)
+    python = machine_setup.venv_python()
+    if Path(sys.prefix).resolve() != machine_setup.VENV.resolve():
+        os.environ["COURSE_LAYER_READY"] = layer
+        os.execv(str(python), [str(python), str(Path(__file__).resolve()), *sys.argv[1:]])
+
+
 def main():
     parser = argparse.ArgumentParser(
         prog="./course", description="The GPU ray tracing course. Start with: ./course run")
     verbs = parser.add_subparsers(dest="verb", metavar="VERB")
 
-    verbs.add_parser("setup", help="install what the course needs and configure the build")
+    setup = verbs.add_parser("setup", help="install what a layer of the course needs and "
+                             "configure the build (run: the chapters; book; grade; test: all)")
+    setup.add_argument("layer", nargs="?", default="run",
+                       choices=["run", "book", "grade", "test"])
+    packages = verbs.add_parser("packages", help="the distribution packages of a layer "
+                                "on this platform (tools/platforms.ini), on one line")
+    packages.add_argument("layer", nargs="?", default="run",
+                          choices=["run", "book", "grade", "test"])
     verbs.add_parser("build", help="build every chapter")
     verbs.add_parser("list", help="the chapters, one line each")
 
@@ -602,6 +665,9 @@ def main():
         return
     if unknown and args.verb != "run":
         parser.error(f"unrecognised arguments: {' '.join(unknown)}")
+    layer = args.layer if args.verb == "setup" else VERB_LAYERS.get(args.verb)
+    if layer:
+        set_up_and_enter_venv(layer)
     if args.verb == "run":
         args.options = list(args.options) + unknown
         if args.chapter and args.chapter.startswith("-"):
