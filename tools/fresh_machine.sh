@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# The fresh-machine check: the README's two commands, exactly as written, on a clean
+# Debian made with debootstrap. Nothing of this machine's is in the root but what a
+# learner's machine would have: compilers, CMake, Ninja, git, Debian's own python3 and
+# venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
+# and pip reach the package mirrors as they do here.)
+#
+#   tools/fresh_machine.sh SUITE [--chapter NN] [--keep]
+#
+#   SUITE         bookworm (Debian 12) or trixie (Debian 13)
+#   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run does:
+#                 the whole test layer is set up and built, one chapter's checks run)
+#   --keep        leave the root in place afterwards (to look inside)
+#
+# Prints each command's time, and ends with one line per command: "fresh SUITE: ...".
+# Needs root (debootstrap, chroot, mounts). The debootstrapped base (before anything of
+# the course is installed) is cached as a tarball in COURSE_FRESH_CACHE
+# (default /var/tmp/course-fresh), keyed by suite and package list.
+set -euo pipefail
+
+usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 1 ] || usage
+SUITE="$1"; shift
+CHAPTER=""
+KEEP=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --chapter) CHAPTER="${2:?--chapter needs a chapter number}"; shift 2 ;;
+    --keep) KEEP=1; shift ;;
+    *) usage ;;
+  esac
+done
+case "$SUITE" in
+  bookworm | trixie) ;;
+  *) echo "fresh_machine: SUITE is bookworm or trixie, not '$SUITE'" >&2; exit 2 ;;
+esac
+if [ "$(id -u)" -ne 0 ]; then
+  echo "fresh_machine: needs root (debootstrap, chroot)" >&2
+  exit 5
+fi
+if ! command -v debootstrap >/dev/null; then
+  echo "fresh_machine: installing debootstrap" >&2
+  apt-get update -qq && apt-get install -y -qq --no-install-recommends debootstrap >&2
+fi
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+MIRROR="${COURSE_DEBIAN_MIRROR:-http://deb.debian.org/debian}"
+# What a learner's machine has before the README: compilers, CMake, Ninja, git, Python.
+BASE_PACKAGES="g++,cmake,ninja-build,git,python3,python3-venv,ca-certificates"
+CACHE="${COURSE_FRESH_CACHE:-/var/tmp/course-fresh}"
+KEY="$(echo "$SUITE $MIRROR $BASE_PACKAGES" | sha256sum | cut -c1-12)"
+BASE_TAR="$CACHE/$SUITE-$KEY.tar"
+ROOTFS="$(mktemp -d "${TMPDIR:-/var/tmp}/course-fresh-$SUITE.XXXXXX")"
+
+MOUNTS=()
+cleanup() {
+  local i
+  for ((i = ${#MOUNTS[@]} - 1; i >= 0; i--)); do umount -l "${MOUNTS[$i]}" 2>/dev/null || true; done
+  if [ "$KEEP" = 1 ]; then echo "fresh_machine: root kept in $ROOTFS" >&2; else rm -rf "$ROOTFS"; fi
+}
+trap cleanup EXIT
+
+seconds() { date +%s; }
+
+# 1. A minimal Debian: debootstrap once per suite, then unpack the cached tarball.
+mkdir -p "$CACHE"
+if [ ! -s "$BASE_TAR" ]; then
+  echo "fresh_machine: debootstrap $SUITE (minbase + $BASE_PACKAGES)" >&2
+  started=$(seconds)
+  debootstrap --variant=minbase --include="$BASE_PACKAGES" "$SUITE" "$ROOTFS" "$MIRROR" \
+    >"$CACHE/$SUITE-debootstrap.log" 2>&1 ||
+    { tail -20 "$CACHE/$SUITE-debootstrap.log" >&2; exit 1; }
+  tar -C "$ROOTFS" -cf "$BASE_TAR.partial" . && mv "$BASE_TAR.partial" "$BASE_TAR"
+  echo "fresh_machine: debootstrap took $(($(seconds) - started)) s" >&2
+else
+  tar -C "$ROOTFS" -xf "$BASE_TAR"
+fi
+
+# 2. What makes the network work as here: DNS, the CA bundle, apt's and pip's settings.
+cp /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
+if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
+  cp /etc/ssl/certs/ca-certificates.crt "$ROOTFS/etc/ssl/certs/ca-certificates.crt"
+fi
+for conf in /etc/pip.conf /etc/apt/apt.conf.d/99artifact-registry; do
+  [ -f "$conf" ] && cp "$conf" "$ROOTFS$conf"
+done
+mkdir -p "$ROOTFS/root/.config/pip"
+for conf in "$HOME/.pip/pip.conf" "$HOME/.config/pip/pip.conf"; do
+  [ -f "$conf" ] && cp "$conf" "$ROOTFS/root/.config/pip/pip.conf"
+done
+# pip's and the CA bundle's environment variables, as set here (nothing else of ours).
+PASS_ENV=(HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin
+  LANG=C.UTF-8 TERM=dumb)
+while IFS='=' read -r name value; do
+  case "$name" in
+    PIP_FIND_LINKS) ;;  # a folder of this machine's
+    PIP_* | SSL_CERT_FILE | SSL_CERT_DIR | REQUESTS_CA_BUNDLE) PASS_ENV+=("$name=$value") ;;
+  esac
+done < <(env)
+
+# 3. The checkout, as a clean clone of the committed HEAD.
+git clone --quiet --no-local "$REPO" "$ROOTFS/root/course"
+git -C "$ROOTFS/root/course" checkout --quiet "$(git -C "$REPO" rev-parse HEAD)"
+
+for mount in proc sys dev dev/pts dev/shm; do
+  mkdir -p "$ROOTFS/$mount"
+  case "$mount" in
+    proc) mount -t proc proc "$ROOTFS/proc" ;;
+    sys) mount -t sysfs sys "$ROOTFS/sys" ;;
+    dev/shm) mount -t tmpfs shm "$ROOTFS/dev/shm" ;;
+    *) mount --bind "/$mount" "$ROOTFS/$mount" ;;
+  esac
+  MOUNTS+=("$ROOTFS/$mount")
+done
+
+in_root() {
+  chroot "$ROOTFS" /usr/bin/env -i "${PASS_ENV[@]}" /bin/bash -c "cd /root/course && $1"
+}
+
+# 4. The README's commands, as written.
+test_command="./course test${CHAPTER:+ $CHAPTER}"
+summary=()
+status=0
+for command in "./course run" "$test_command"; do
+  echo "fresh_machine: [$SUITE] $command" >&2
+  started=$(seconds)
+  if in_root "$command" </dev/null; then result=passed; else result="FAILED ($?)"; status=1; fi
+  took=$(($(seconds) - started))
+  summary+=("fresh $SUITE: '$command' $result in $((took / 60)) min $((took % 60)) s")
+  [ "$status" = 0 ] || break
+done
+python_version=$(chroot "$ROOTFS" python3 -V 2>&1 || true)
+mesa=$(chroot "$ROOTFS" dpkg-query -W -f='${Version}' libgl1-mesa-dri 2>/dev/null || echo "?")
+printf '%s\n' "${summary[@]}"
+echo "fresh $SUITE: $python_version, Mesa $mesa"
+exit "$status"
