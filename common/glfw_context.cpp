@@ -5,6 +5,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <cstdlib>
+
 #include "course/error.h"
 #include "course/gl_context.h"
 
@@ -42,6 +44,15 @@ private:
 std::unique_ptr<GlContext> createGlfwContext(GlVersion required, const Options& options,
                                              const std::string& title, bool visible) {
     glfwSetErrorCallback(rememberGlfwError);
+#ifdef GLFW_PLATFORM  // GLFW 3.4 and later
+    // GLFW 3.4 tries Wayland before X11. With an X display and no Wayland one (Xvfb,
+    // ssh -X, a desktop without Wayland), go straight to X11: the Wayland attempt
+    // prints "XDG_RUNTIME_DIR is invalid or not set" where there is no user session.
+    const char* x11 = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if (x11 && *x11 && !(wayland && *wayland) && glfwPlatformSupported(GLFW_PLATFORM_X11))
+        glfwInitHint(GLFW_PLATFORM, GLFW_PLATFORM_X11);
+#endif
     if (!visible) {
         // macOS only (ignored elsewhere): no menu bar for a program that shows nothing,
         // and keep the working folder, where --out's relative paths point.

@@ -3,7 +3,9 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -84,10 +86,15 @@ void Session::timeRender(const std::function<void()>& render) {
             std::to_string(stats_.number("gpu_ms")) + " ms GPU");
 }
 
-bool Session::reloadChangedShaders() {
-    bool any = false;
-    for (ShaderProgram& program : programs_) any |= program.reloadIfChanged();
-    return any;
+// Reloaded when any program was; else KeptLastGood when any failed to build.
+ShaderProgram::Reload Session::reloadChangedShaders() {
+    using Reload = ShaderProgram::Reload;
+    Reload result = Reload::Unchanged;
+    for (ShaderProgram& program : programs_) {
+        Reload reload = program.reloadIfChanged();
+        if (reload == Reload::Reloaded || result == Reload::Unchanged) result = reload;
+    }
+    return result;
 }
 
 static Image downloadImage(const ImageBuffer& image) {
@@ -98,22 +105,60 @@ static Image downloadImage(const ImageBuffer& image) {
     return pixels;
 }
 
+namespace {
+
+// Ctrl+C in the terminal (SIGINT) or SIGTERM closes the window like Esc does, so --out
+// is still written. A second one ends the program at once, as usual.
+volatile std::sig_atomic_t closeRequested = 0;
+
+void requestClose(int signal) {
+    closeRequested = 1;
+    std::signal(signal, SIG_DFL);
+}
+
+class CloseOnSignal {
+public:
+    CloseOnSignal()
+        : interrupt_(std::signal(SIGINT, requestClose)),
+          terminate_(std::signal(SIGTERM, requestClose)) {}
+    ~CloseOnSignal() {
+        std::signal(SIGINT, interrupt_);
+        std::signal(SIGTERM, terminate_);
+    }
+    bool requested() const { return closeRequested != 0; }
+
+private:
+    void (*interrupt_)(int);
+    void (*terminate_)(int);
+};
+
+}  // namespace
+
 void Session::finish(const ImageBuffer& image, const std::function<void()>& render,
                      const std::function<void(int frame)>& eachFrame) {
     if (GLFWwindow* window = context_->window()) {
         ImageDisplay display;
-        auto lastCheck = std::chrono::steady_clock::now();
+        CloseOnSignal closeOnSignal;
+        std::vector<std::string> watched;
+        for (const ShaderProgram& program : programs_)
+            for (const std::string& file : program.watchedFiles())
+                if (render && std::find(watched.begin(), watched.end(), file) == watched.end())
+                    watched.push_back(file);
+        for (const std::string& file : watched) logInfo("watching " + file);
         bool screenshotKeyWasDown = false;
         int screenshots = 0;
-        for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
+        bool reportFrame = true;  // the first frame, and the first after each reload
+        int frame = 0;
+        for (; !glfwWindowShouldClose(window) && !closeOnSignal.requested(); ++frame) {
             if (options_.frames && frame >= options_.frames) break;
             glfwPollEvents();
             if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) break;
-            // Look for edited shaders a few times a second, not every frame.
-            auto now = std::chrono::steady_clock::now();
-            if (render && now - lastCheck > std::chrono::milliseconds(250)) {
-                lastCheck = now;
-                if (reloadChangedShaders()) render();
+            // Edited shaders, looked for before every frame (reading a few small files
+            // costs far less than a frame).
+            if (render) {
+                ShaderProgram::Reload reload = reloadChangedShaders();
+                if (reload == ShaderProgram::Reload::Reloaded) render();
+                if (reload != ShaderProgram::Reload::Unchanged) reportFrame = true;
             }
             if (eachFrame) eachFrame(frame);
             // F12: the image as it is now, as a PNG in the working folder.
@@ -129,7 +174,10 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
             glfwGetFramebufferSize(window, &width, &height);
             if (width > 0 && height > 0) display.draw(image, width, height);
             glfwSwapBuffers(window);
+            if (reportFrame) logInfo("frame " + std::to_string(frame) + " drawn");
+            reportFrame = false;
         }
+        logInfo("window closed after " + std::to_string(frame) + " frames");
         if (options_.outPath.empty()) return;
     }
     std::string path = options_.outPath.empty() ? chapter_.name + ".png" : options_.outPath;

@@ -8,8 +8,6 @@
 #include "course/error.h"
 #include "course/shader_source.h"
 
-namespace fs = std::filesystem;
-
 namespace course {
 namespace {
 
@@ -65,10 +63,27 @@ GLuint buildProgramFromText(const std::vector<std::pair<GLenum, std::string>>& s
     return linkProgram(shaders, label);
 }
 
+namespace {
+
+// Each file once, as its first read found it: if it changed between two reads, the
+// next check sees the difference and builds again.
+std::vector<ShaderFile> withoutRepeats(const std::vector<ShaderFile>& files) {
+    std::vector<ShaderFile> unique;
+    for (const ShaderFile& file : files) {
+        bool seen = false;
+        for (const ShaderFile& kept : unique) seen = seen || kept.path == file.path;
+        if (!seen) unique.push_back(file);
+    }
+    return unique;
+}
+
+}  // namespace
+
 ShaderProgram::ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages)
     : shaderDir_(std::move(shaderDir)), stages_(std::move(stages)) {
-    id_ = build();
-    builtFrom_ = newestSourceTime();
+    std::vector<ShaderFile> filesRead;
+    id_ = build(filesRead);
+    watched_ = withoutRepeats(filesRead);
 }
 
 ShaderProgram::~ShaderProgram() {
@@ -77,8 +92,7 @@ ShaderProgram::~ShaderProgram() {
 
 ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
     : id_(std::exchange(other.id_, 0)), shaderDir_(std::move(other.shaderDir_)),
-      stages_(std::move(other.stages_)), sourceFiles_(std::move(other.sourceFiles_)),
-      builtFrom_(other.builtFrom_) {}
+      stages_(std::move(other.stages_)), watched_(std::move(other.watched_)) {}
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
     if (this != &other) {
@@ -86,20 +100,17 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
         id_ = std::exchange(other.id_, 0);
         shaderDir_ = std::move(other.shaderDir_);
         stages_ = std::move(other.stages_);
-        sourceFiles_ = std::move(other.sourceFiles_);
-        builtFrom_ = other.builtFrom_;
+        watched_ = std::move(other.watched_);
     }
     return *this;
 }
 
-GLuint ShaderProgram::build() const {
+GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead) const {
     std::vector<GLuint> shaders;
-    std::vector<std::string> files;
     std::string label;
     try {
         for (const ShaderStage& stage : stages_) {
-            ShaderSource source = loadShaderSource(shaderDir_, stage.fileName);
-            files.insert(files.end(), source.filePaths.begin(), source.filePaths.end());
+            ShaderSource source = loadShaderSource(shaderDir_, stage.fileName, &filesRead);
             label += (label.empty() ? "" : " + ") + source.shownPaths.front();
             shaders.push_back(compileStage(stage.type, source.text, source.shownPaths));
         }
@@ -107,34 +118,43 @@ GLuint ShaderProgram::build() const {
         for (GLuint shader : shaders) glDeleteShader(shader);
         throw;
     }
-    sourceFiles_ = files;
     return linkProgram(shaders, label);
 }
 
-fs::file_time_type ShaderProgram::newestSourceTime() const {
-    // min(), not {}: file_clock's epoch is in the future, so real times are negative.
-    fs::file_time_type newest = fs::file_time_type::min();
-    std::error_code error;
-    for (const std::string& file : sourceFiles_) {
-        auto time = fs::last_write_time(file, error);
-        if (!error && time > newest) newest = time;
-    }
-    return newest;
+std::vector<std::string> ShaderProgram::watchedFiles() const {
+    std::vector<std::string> shown;
+    for (const ShaderFile& file : watched_) shown.push_back(file.shownPath);
+    return shown;
 }
 
-bool ShaderProgram::reloadIfChanged() {
-    fs::file_time_type newest = newestSourceTime();
-    if (newest == builtFrom_) return false;
-    builtFrom_ = newest;  // try each saved version once
+ShaderProgram::Reload ShaderProgram::reloadIfChanged() {
+    std::vector<std::optional<std::string>> onDisk;
+    bool changed = false;
+    for (const ShaderFile& file : watched_) {
+        onDisk.push_back(readShaderFile(file.path));
+        changed = changed || onDisk.back() != file.text;
+    }
+    if (!changed) return Reload::Unchanged;
+
+    // The program is named by its first file, the one the chapter asked for.
+    const std::string name = watched_.front().shownPath;
+    std::vector<ShaderFile> filesRead;
     try {
-        GLuint rebuilt = build();
+        GLuint rebuilt = build(filesRead);
         glDeleteProgram(id_);
         id_ = rebuilt;
-        std::fprintf(stderr, "reloaded %s\n", stages_.front().fileName.c_str());
-        return true;
+        watched_ = withoutRepeats(filesRead);  // an #include may have come or gone
+        std::fprintf(stderr, "reloaded %s\n", name.c_str());
+        return Reload::Reloaded;
     } catch (const Failure& failure) {
-        std::fprintf(stderr, "%s\nkeeping the last program that compiled\n", failure.what());
-        return false;
+        // Watch what this attempt read, a new #include too, and the files it did not
+        // get to as they were before it: each saved version is tried once.
+        for (size_t i = 0; i < watched_.size(); ++i)
+            filesRead.push_back({watched_[i].path, watched_[i].shownPath, onDisk[i]});
+        watched_ = withoutRepeats(filesRead);
+        std::fprintf(stderr, "%s\nkept the last good program of %s\n", failure.what(),
+                     name.c_str());
+        return Reload::KeptLastGood;
     }
 }
 

@@ -40,6 +40,7 @@ std::string shownPathOf(const fs::path& file) {
 struct Preprocessor {
     fs::path folder;
     ShaderSource result;
+    std::vector<ShaderFile>* filesRead = nullptr;
     std::vector<fs::path> includeStack;
 
     void append(const fs::path& file, const std::string& includedFrom, int depth) {
@@ -49,13 +50,12 @@ struct Preprocessor {
             if (open == file)
                 shaderFailure(includedFrom, "#include cycle: " + shownPathOf(file) +
                                                 " includes itself");
-        std::ifstream stream(file, std::ios::binary);
-        if (!stream || fs::is_directory(file))
+        std::optional<std::string> read = readShaderFile(file.string());
+        if (filesRead) filesRead->push_back({file.string(), shownPathOf(file), read});
+        if (!read)
             shaderFailure(includedFrom.empty() ? shownPathOf(file) : includedFrom,
                           "cannot read shader file " + file.string());
-        std::stringstream content;
-        content << stream.rdbuf();
-        const std::string text = content.str();
+        const std::string& text = *read;
         if (text.find_first_not_of(" \t\r\n") == std::string::npos)
             shaderFailure(shownPathOf(file), "shader file is empty: " + file.string());
 
@@ -96,9 +96,21 @@ struct Preprocessor {
 
 }  // namespace
 
-ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName) {
+std::optional<std::string> readShaderFile(const std::string& path) {
+    std::error_code error;
+    if (fs::is_directory(path, error)) return std::nullopt;
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream) return std::nullopt;
+    std::stringstream content;
+    content << stream.rdbuf();
+    return content.str();
+}
+
+ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName,
+                              std::vector<ShaderFile>* filesRead) {
     Preprocessor preprocessor;
     preprocessor.folder = fs::absolute(shaderDir).lexically_normal();
+    preprocessor.filesRead = filesRead;
     preprocessor.append(preprocessor.folder / fileName, "", 0);
     return preprocessor.result;
 }

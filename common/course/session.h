@@ -50,15 +50,18 @@ public:
     void timeRender(const std::function<void()>& render);
 
     // The end of a render. Headless: writes the image to --out (default
-    // <chapter>.png) and prints its path. Window: shows it until Esc, the close button
-    // or --frames; after a shader is hot-reloaded, calls `render` again (which should
-    // start the picture over), and before drawing each frame calls `eachFrame` (a
-    // progressive renderer adds samples there). F12 saves a screenshot as a PNG.
+    // <chapter>.png) and prints its path. Window: shows it until Esc, the close button,
+    // Ctrl+C (or SIGTERM) or --frames, then writes --out if given; before each frame
+    // it looks for edited shaders, and after one is hot-reloaded calls `render` again
+    // (which should start the picture over); then calls `eachFrame` (a progressive
+    // renderer adds samples there). F12 saves a screenshot as a PNG. With --verbose it
+    // says what it does: the files it watches, the first frame drawn and the first
+    // after each reload, and the number of frames at the end.
     void finish(const ImageBuffer& image, const std::function<void()>& render = {},
                 const std::function<void(int frame)>& eachFrame = {});
 
 private:
-    bool reloadChangedShaders();
+    ShaderProgram::Reload reloadChangedShaders();
 
     Options options_;
     ChapterPaths chapter_;

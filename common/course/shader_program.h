@@ -3,13 +3,13 @@
 // In window mode, reloadIfChanged() rebuilds it when a file changed on disk and keeps
 // the last good program when the new source does not compile.
 #pragma once
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "course/gl.h"
+#include "course/shader_source.h"
 
 namespace course {
 
@@ -47,19 +47,23 @@ public:
     // glDispatchCompute with enough groups to cover `invocations`, rounded up.
     void dispatchCovering(int invocationsX, int invocationsY = 1, int invocationsZ = 1) const;
 
-    // Hot reload: true when a source file changed and the new program replaced the
-    // old one. A failed rebuild prints the error and keeps the old program.
-    bool reloadIfChanged();
+    // Hot reload. Reads every file the program was built from (includes too) and
+    // compares its text with what the last build read: the contents, not the time of
+    // change, which many file systems keep to a few milliseconds or to the second, so
+    // two saves close together could look like one. Each saved version is built once:
+    // "reloaded FILE", or the compiler's message and "kept the last good program".
+    enum class Reload { Unchanged, Reloaded, KeptLastGood };
+    Reload reloadIfChanged();
+    // The files it watches, as messages show them: "shaders/NN_name/path.comp".
+    std::vector<std::string> watchedFiles() const;
 
 private:
-    GLuint build() const;  // throws Failure(GlProblem)
-    std::filesystem::file_time_type newestSourceTime() const;
+    GLuint build(std::vector<ShaderFile>& filesRead) const;  // throws Failure(GlProblem)
 
     GLuint id_ = 0;
     std::string shaderDir_;
     std::vector<ShaderStage> stages_;
-    mutable std::vector<std::string> sourceFiles_;  // every file read, includes too
-    std::filesystem::file_time_type builtFrom_{};
+    std::vector<ShaderFile> watched_;  // every file read, includes too, as last read
 };
 
 // Compiles and links program text that lives in C++ (the window display); errors name

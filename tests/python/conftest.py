@@ -4,6 +4,7 @@ its images, and compare them with a reference."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -154,58 +155,181 @@ def regions_agreeing(a: np.ndarray, b: np.ndarray, scene_file: Path,
     return compared
 
 
+# --- Window mode ------------------------------------------------------------------------
+# A window test runs the chapter on a virtual X server of its own and goes step by step
+# on what the program reports (--verbose: "watching FILE", "frame N drawn", "reloaded
+# FILE", "kept the last good program of FILE"), never on guessed durations. The one
+# time limit, WINDOW_SAFETY_TIMEOUT, only turns a hang into a failure.
+
+WINDOW_SAFETY_TIMEOUT = 300  # seconds for any one step
+
+
 def xvfb_available() -> bool:
-    return shutil.which("xvfb-run") is not None
+    return shutil.which("Xvfb") is not None
+
+
+@pytest.fixture
+def window_env(tmp_path_factory):
+    """The environment of a program that opens a window: DISPLAY on an Xvfb server
+    started for this test alone, which picks a free display number itself (-displayfd:
+    no race between tests running at the same time, unlike xvfb-run -a) and says when
+    it is ready. The desktop session's variables are made up or removed: XDG_RUNTIME_DIR
+    is a new private folder (Wayland clients insist on one) and WAYLAND_DISPLAY is
+    unset, so that nothing opens on the desktop of whoever runs the tests."""
+    folder = tmp_path_factory.mktemp("window")
+    runtime = folder / "runtime"
+    runtime.mkdir(mode=0o700)
+    log = folder / "xvfb.log"
+    ready_read, ready_write = os.pipe()
+    with open(log, "wb") as log_file:
+        server = subprocess.Popen(
+            ["Xvfb", "-displayfd", str(ready_write), "-screen", "0", "800x600x24",
+             "-nolisten", "tcp"],
+            pass_fds=[ready_write], stdout=log_file, stderr=log_file,
+            stdin=subprocess.DEVNULL)
+    os.close(ready_write)
+    try:
+        display = _read_display_number(ready_read, server, log)
+        env = {k: v for k, v in os.environ.items() if k != "WAYLAND_DISPLAY"}
+        env.update(DISPLAY=f":{display}", XDG_RUNTIME_DIR=str(runtime),
+                   XDG_SESSION_TYPE="x11")
+        yield env
+    finally:
+        os.close(ready_read)
+        server.terminate()
+        try:
+            server.wait(timeout=WINDOW_SAFETY_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait()
+
+
+def _read_display_number(ready: int, server: subprocess.Popen, log: Path) -> str:
+    """Xvfb writes its display number and a newline to -displayfd once it accepts
+    clients; an end of file first means it failed to start."""
+    import select
+    text = b""
+    deadline = time.monotonic() + WINDOW_SAFETY_TIMEOUT
+    while not text.endswith(b"\n"):
+        remaining = deadline - time.monotonic()
+        if remaining <= 0 or not select.select([ready], [], [], remaining)[0]:
+            server.kill()
+            pytest.fail(f"Xvfb did not start within {WINDOW_SAFETY_TIMEOUT} s: "
+                        + log.read_text(errors="replace"))
+        chunk = os.read(ready, 64)
+        if not chunk:
+            server.wait()
+            pytest.fail(f"Xvfb failed to start (exit {server.returncode}): "
+                        + log.read_text(errors="replace"))
+        text += chunk
+    return text.decode().strip()
 
 
 def window_command(prefix: str, out: Path, *args) -> list[str]:
-    """A chapter in a 32 x 32 window on a virtual X server, writing `out` at the end."""
-    return ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / chapter_name(prefix)),
-            "--window", "--width", "32", "--height", "32", "--out", str(out), "--json",
-            *map(str, args)]
+    """A chapter in a 32 x 32 window (run it with window_env), writing `out` at the end."""
+    return [str(BIN / chapter_name(prefix)), "--window", "--width", "32", "--height", "32",
+            "--out", str(out), "--json", *map(str, args)]
+
+
+class ProgramLog:
+    """The standard error of a running program, line by line, as it comes."""
+
+    def __init__(self, process: subprocess.Popen):
+        self.process = process
+        self.lines: list[str] = []
+        self.position = 0  # lines before this one have been waited for already
+        self._changed = threading.Condition()
+        self._ended = False
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self):
+        for line in self.process.stderr:
+            with self._changed:
+                self.lines.append(line.rstrip("\n"))
+                self._changed.notify_all()
+        with self._changed:
+            self._ended = True
+            self._changed.notify_all()
+
+    def text(self) -> str:
+        with self._changed:
+            return "\n".join(self.lines)
+
+    def wait_for(self, text: str) -> str:
+        """The next line, after those already waited for, that contains `text`; fails
+        if the program ends first (or after WINDOW_SAFETY_TIMEOUT: a hang)."""
+        deadline = time.monotonic() + WINDOW_SAFETY_TIMEOUT
+        with self._changed:
+            while True:
+                for index in range(self.position, len(self.lines)):
+                    if text in self.lines[index]:
+                        self.position = index + 1
+                        return self.lines[index]
+                self.position = len(self.lines)
+                remaining = deadline - time.monotonic()
+                if self._ended or remaining <= 0:
+                    why = "ended" if self._ended else f"hung for {WINDOW_SAFETY_TIMEOUT} s"
+                    pytest.fail(f"the program {why} before saying {text!r}:\n"
+                                + "\n".join(self.lines))
+                self._changed.wait(remaining)
+
+
+def replace_file(path: Path, text: str):
+    """Writes `path` whole in one step (a new file renamed over it, as many editors
+    save), so that a reader sees the old text or the new, never half of it."""
+    temporary = path.with_name(path.name + ".saving")
+    temporary.write_text(text)
+    os.replace(temporary, path)
 
 
 def check_hot_reload(prefix: str, shaders: Path, shader: str, paint: tuple[str, str],
-                     out: Path, *args, env: dict | None = None) -> np.ndarray:
-    """Runs the chapter in a window with its shaders from `shaders`, then edits `shader`
-    twice while it runs: `paint` (old, new) swaps a line for one that paints every pixel
-    a fixed colour, which must be reloaded; then a compile error, which must be reported
-    (file:line) while the program goes on with the last good program. Returns the image
-    the window wrote at the end (linear), for the caller to check the colour."""
+                     out: Path, *args, env: dict) -> np.ndarray:
+    """Runs the chapter in a window with its shaders from `shaders` and edits `shader`
+    while it runs, one step after the other as the program reports them:
+
+    1. it watches `shader` and has drawn a frame: swap the line paint[0] for paint[1],
+       which paints every pixel a fixed colour;
+    2. it says "reloaded" and draws a frame with the new program: plant a compile error;
+    3. it names the error's file and line, keeps the last good program, and goes on
+       drawing frames: close the window (SIGTERM, as Ctrl+C would).
+
+    Returns the image the window wrote when it closed (linear), for the caller to check
+    the colour."""
     path = shaders / shader
+    shown = f"shaders/{shaders.name}/{shader}"
     good = path.read_text()
     painted = good.replace(*paint)
     assert painted != good, f"{paint[0]!r} is not in {shader}"
-    process = subprocess.Popen(window_command(prefix, out, "--shader-dir", shaders, *args),
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env={**os.environ, **(env or {})})
-    lines: list[str] = []
-    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-    reader.start()
+    lines = painted.splitlines()
+    broken_line = next(i for i, line in enumerate(lines) if "void main() {" in line) + 1
+    lines[broken_line - 1] += " int broken = ;"
+    broken = "\n".join(lines) + "\n"
 
-    def wait_for(text, seconds=30):
-        deadline = time.time() + seconds
-        while time.time() < deadline:
-            if any(text in line for line in list(lines)):
-                return True
-            if process.poll() is not None:
-                return False
-            time.sleep(0.05)
-        return False
-
+    process = subprocess.Popen(
+        window_command(prefix, out, "--verbose", "--shader-dir", shaders, *args),
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    log = ProgramLog(process)
     try:
-        time.sleep(1.0)
-        path.write_text(painted)
-        assert wait_for(f"reloaded {shader}"), "".join(lines)
-        path.write_text(good.replace("void main() {", "void main() { oops"))
-        assert wait_for("keeping the last program"), "".join(lines)
-        assert f"{shader}:" in "".join(lines)
+        log.wait_for(f"watching {shown}")
+        log.wait_for(" drawn")
+        replace_file(path, painted)
+        log.wait_for(f"reloaded {shown}")
+        log.wait_for(" drawn")
+        replace_file(path, broken)
+        log.wait_for(f"{shown}:{broken_line}: ")
+        log.wait_for(f"kept the last good program of {shown}")
+        log.wait_for(" drawn")
         assert process.poll() is None, "the broken shader ended the program"
-        process.communicate(timeout=120)
+        process.terminate()
+        process.wait(timeout=WINDOW_SAFETY_TIMEOUT)
+        stdout = process.stdout.read()  # one line of JSON: the pipe holds it
     finally:
         if process.poll() is None:
             process.kill()
-    assert process.returncode == 0, "".join(lines)
+            process.wait()
+    assert process.returncode == 0, log.text()
+    log.wait_for("window closed after")
+    assert json.loads(stdout.strip().splitlines()[-1])["out"] == str(out)
     return read_pfm(out)[..., :3]
 
 

@@ -1,14 +1,13 @@
 """Chapter 02: the test pattern must equal an independent numpy computation of it,
 for both dispatch shapes, both headless backends and the window."""
 
-import os
 import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import (BACKENDS, BIN, copy_shaders, read_image, render, run_chapter,
-                      srgb_encode_8bit, xvfb_available)
+from conftest import (BACKENDS, BIN, WINDOW_SAFETY_TIMEOUT, copy_shaders, read_image, render,
+                      run_chapter, srgb_encode_8bit, xvfb_available)
 from reference.first_pixels import first_pixels_pattern
 
 # Sizes that are not multiples of 64 (1D groups) or 8 (2D tiles) on purpose.
@@ -39,14 +38,13 @@ def test_check_rejects_a_wrong_pattern(tmp_path):
     assert np.max(np.abs(linear - first_pixels_pattern(64, 48))) > 0.1
 
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
-def test_window_renders_frames_and_exits(tmp_path):
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
+def test_window_renders_frames_and_exits(tmp_path, window_env):
     out = tmp_path / "window.png"
-    env = dict(os.environ)
     result = subprocess.run(
-        ["xvfb-run", "-a", "-s", "-screen 0 800x600x24", str(BIN / "02_first_pixels"),
-         "--window", "--frames", "20", "--width", "160", "--height", "120", "--out", str(out)],
-        capture_output=True, text=True, timeout=120, env=env)
+        [str(BIN / "02_first_pixels"), "--window", "--frames", "20", "--width", "160",
+         "--height", "120", "--out", str(out)],
+        capture_output=True, text=True, timeout=WINDOW_SAFETY_TIMEOUT, env=window_env)
     assert result.returncode == 0, result.stderr
     image = read_image(out)
     assert np.max(np.abs(image - srgb_encode_8bit(first_pixels_pattern(160, 120)))) <= 1.0

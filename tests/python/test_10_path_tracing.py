@@ -16,8 +16,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import (ROOT, check_hot_reload, copy_shaders, read_pfm, regions_agreeing,
-                      run_chapter, window_command, xvfb_available)
+from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders, read_pfm,
+                      regions_agreeing, run_chapter, window_command, xvfb_available)
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 # Regions with a single pixel (the light, at 48 x 48) have no spread: numpy warns, and
@@ -252,11 +252,12 @@ def test_unknown_scene_name_names_the_path_tried(tmp_path):
 
 # --- Window mode ----------------------------------------------------------------------
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
-def test_window_refines_and_a_camera_move_starts_over(tmp_path):
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
+def test_window_refines_and_a_camera_move_starts_over(tmp_path, window_env):
     out = tmp_path / "window.pfm"
     result = subprocess.run(window_command("10", out, "--frames", 40, "--script-camera-move"),
-                            capture_output=True, text=True, timeout=120)
+                            capture_output=True, text=True, timeout=WINDOW_SAFETY_TIMEOUT,
+                            env=window_env)
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
     # Frames 0 and 1 add samples, frame 2 moves and starts over, 3..39 add one each.
@@ -265,10 +266,10 @@ def test_window_refines_and_a_camera_move_starts_over(tmp_path):
     assert read_pfm(out)[..., :3].mean() > 0.05
 
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
-def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path):
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
+def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path, window_env):
     image = check_hot_reload("10", copy_shaders("10", tmp_path), "path.comp",
                              ("pixels[index] = vec4(mean, 1.0);",
                               "pixels[index] = vec4(0.25, 0.5, 0.75, 1.0);"),
-                             tmp_path / "window.pfm", "--frames", 1500)
+                             tmp_path / "window.pfm", env=window_env)
     assert np.allclose(image, [0.25, 0.5, 0.75])

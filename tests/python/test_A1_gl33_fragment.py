@@ -9,7 +9,6 @@ regions of the Cornell box agree within their statistical error (COURSE.md)."""
 from __future__ import annotations
 
 import json
-import os
 import re
 import subprocess
 import xml.etree.ElementTree as ET
@@ -18,8 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import (ROOT, check_hot_reload, copy_shaders, read_pfm, regions_agreeing,
-                      run_chapter, window_command, xvfb_available)
+from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders,
+                      loop_limit, read_pfm, regions_agreeing, run_chapter, window_command,
+                      xvfb_available)
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
 SIGMAS = 4.5  # as chapter 10's checks: a correct renderer fails 1 in ~150,000
@@ -241,22 +241,32 @@ def test_more_texels_than_the_buffer_texture_holds_is_exit_4(tmp_path):
 
 
 def test_too_many_loop_iterations_are_refused_as_in_chapter_10(tmp_path):
-    # ~150 shapes x 1001 bounces: far beyond llvmpipe's 65535 iterations an invocation.
+    # ~220 shapes x 1001 bounces: far beyond the 65535 iterations an invocation gets on
+    # Mesa 22's llvmpipe. Refused where the appendix measures a limit for its fragment
+    # shaders; drawn where there is none (paths end long before 1000 bounces).
+    limit = loop_limit("A1", env=GL33)
+    out = tmp_path / "x.png"
     result = run_chapter("A1", "--headless", "--scene", "cornell_gems", "--depth", 1000,
-                         "--out", tmp_path / "x.png", env=GL33)
+                         "--width", 8, "--height", 8, "--out", out, env=GL33)
+    if limit is None:
+        assert result.returncode == 0, result.stderr
+        assert out.exists()
+        return
     assert result.returncode == 4, result.stderr
-    assert "cornell_gems.scene" in result.stderr and "65535" in result.stderr
+    for words in ("cornell_gems.scene", f"after {limit} (measured)", "A lower --depth"):
+        assert words in result.stderr, words
+    assert not out.exists()
 
 
 # --- Window mode ----------------------------------------------------------------------
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
-def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path):
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
+def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path, window_env):
     out = tmp_path / "window.pfm"
     result = subprocess.run(window_command("A1", out, "--frames", 20, "--frame-samples", 3,
                                            "--script-camera-move"),
-                            capture_output=True, text=True, timeout=120,
-                            env={**os.environ, **GL33})
+                            capture_output=True, text=True, timeout=WINDOW_SAFETY_TIMEOUT,
+                            env={**window_env, **GL33})
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
     assert stats["gl_version"].startswith("3.3"), stats
@@ -266,11 +276,11 @@ def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path):
     assert read_pfm(out)[..., :3].mean() > 0.05
 
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
-def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path):
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
+def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path, window_env):
     image = check_hot_reload("A1", copy_shaders("A1", tmp_path), "path.frag",
                              ("newMean = vec4(mean, 1.0);",
                               "newMean = vec4(0.25, 0.5, 0.75, 1.0);"),
-                             tmp_path / "window.pfm", "--frames", 600, "--frame-samples", 1,
-                             env=GL33)
+                             tmp_path / "window.pfm", "--frame-samples", 1,
+                             env={**window_env, **GL33})
     assert np.allclose(image, [0.25, 0.5, 0.75])

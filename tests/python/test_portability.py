@@ -24,29 +24,28 @@ GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
 A1_OPTIONS = ("--width", "32", "--height", "32", "--spp", "8", "--seed", "7")
 
 
-def render_headless(prefix: str, out, backend: str, *args, env=None, xvfb=False):
-    """Renders headless with --json; returns (image, statistics)."""
+def render_headless(prefix: str, out, backend: str, *args, env=None, display=None):
+    """Renders headless with --json; returns (image, statistics). `display`: the
+    window_env of an X server, for the hidden GLFW window."""
     program = next(p for p in BIN.iterdir() if p.name.startswith(prefix + "_"))
     command = [str(program), "--headless", "--backend", backend, "--out", str(out),
                "--json", *map(str, args)]
-    if xvfb:
-        command = ["xvfb-run", "-a", "-s", "-screen 0 320x240x24", *command]
-    environment = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    environment = display or {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     result = subprocess.run(command, capture_output=True, text=True, timeout=180,
                             env={**environment, **(env or {})})
     assert result.returncode == 0, result.stderr
     return read_pfm(out), json.loads(result.stdout.strip().splitlines()[-1])
 
 
-@pytest.mark.skipif(not xvfb_available(), reason="xvfb-run is not installed")
+@pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 @pytest.mark.parametrize("prefix, args, env", [
     ("A1", A1_OPTIONS, GL33),                      # the macOS route, on a 3.3 context
     ("02", ("--width", "40", "--height", "24"), {}),  # a compute chapter, GL 4.3
 ])
-def test_hidden_glfw_window_renders_the_egl_image(tmp_path, prefix, args, env):
+def test_hidden_glfw_window_renders_the_egl_image(tmp_path, window_env, prefix, args, env):
     egl, _ = render_headless(prefix, tmp_path / "egl.pfm", "egl", *args, env=env)
     hidden, stats = render_headless(prefix, tmp_path / "hidden.pfm", "glfw", *args,
-                                    env=env, xvfb=True)
+                                    env=env, display=window_env)
     assert stats["backend"] == "glfw (hidden window)"
     if env:
         assert stats["gl_version"].startswith("3.3"), stats
