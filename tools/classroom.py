@@ -208,10 +208,12 @@ def release(root: Path, chapter: str, out: Path) -> Path:
 # ---------------------------------------------------------------- autograder packages
 
 GRADESCOPE_SETUP = """#!/usr/bin/env bash
-# Gradescope runs this once, as root, when the autograder image is built.
+# Gradescope runs this once, as root, when the autograder image is built: the grading
+# layer only (the build's packages, numpy and matplotlib; no browser, no Mitsuba), then
+# the chapter's build.
 set -euo pipefail
 cd /autograder/source/course
-./course setup
+./course setup grade
 ./course build
 """
 

@@ -5,11 +5,18 @@
 # venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
 # and pip reach the package mirrors as they do here.)
 #
-#   tools/fresh_machine.sh SUITE [--chapter NN] [--keep]
+#   tools/fresh_machine.sh SUITE [--chapter NN] [--gradescope NN] [--keep]
 #
 #   SUITE         bookworm (Debian 12) or trixie (Debian 13)
 #   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run does:
 #                 the whole test layer is set up and built, one chapter's checks run)
+#   --gradescope NN  instead: lay the root out as Gradescope does (/autograder/source,
+#                 /autograder/submission, /autograder/results), unpack the chapter's
+#                 autograder zip (./course autograder NN), run its setup.sh, then grade
+#                 the released starter and the solution with run_autograder; each
+#                 results.json is checked against Gradescope's format
+#                 (tools/gradescope_results.py): the solution full marks, the starter
+#                 at most 10%
 #   --keep        leave the root in place afterwards (to look inside)
 #
 # Prints each command's time, and ends with one line per command: "fresh SUITE: ...".
@@ -22,10 +29,12 @@ usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 [ $# -ge 1 ] || usage
 SUITE="$1"; shift
 CHAPTER=""
+GRADESCOPE=""
 KEEP=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --chapter) CHAPTER="${2:?--chapter needs a chapter number}"; shift 2 ;;
+    --gradescope) GRADESCOPE="${2:?--gradescope needs a chapter number}"; shift 2 ;;
     --keep) KEEP=1; shift ;;
     *) usage ;;
   esac
@@ -117,6 +126,56 @@ in_root() {
   chroot "$ROOTFS" /usr/bin/env -i "${PASS_ENV[@]}" /bin/bash -c "cd /root/course && $1"
 }
 
+python_version=$(chroot "$ROOTFS" python3 -V 2>&1 || true)
+
+if [ -n "$GRADESCOPE" ]; then
+  # 4'. Gradescope: the autograder zip and two submissions are made here, from the
+  #     checkout; everything else happens in the root as Gradescope would do it.
+  host_course() { (cd "$REPO" && ./course "$@"); }
+  zip=$(host_course autograder "$GRADESCOPE" --out "$ROOTFS/tmp/autograder.zip" | tail -1)
+  starter=$(host_course release "$GRADESCOPE" --out "$ROOTFS/tmp/submissions/starter" | tail -1)
+  chapter=$(basename "$(dirname "$(ls -d "$starter"/chapters/*/main.cpp)")")
+  mkdir -p "$ROOTFS/tmp/submissions/solution"
+  for top in chapters shaders; do
+    mkdir -p "$ROOTFS/tmp/submissions/solution/$top"
+    cp -r "$REPO/$top/$chapter" "$ROOTFS/tmp/submissions/solution/$top/"
+  done
+  mkdir -p "$ROOTFS/autograder/source" "$ROOTFS/autograder/submission" \
+    "$ROOTFS/autograder/results"
+  chroot "$ROOTFS" python3 -m zipfile -e /tmp/autograder.zip /autograder/source
+  cp "$ROOTFS/autograder/source/run_autograder" "$ROOTFS/autograder/run_autograder"
+  summary=()
+  status=0
+  started=$(seconds)
+  if in_root "bash /autograder/source/setup.sh" </dev/null; then result=passed
+  else result="FAILED ($?)"; status=1; fi
+  took=$(($(seconds) - started))
+  summary+=("fresh $SUITE gradescope: setup.sh $result in $((took / 60)) min $((took % 60)) s")
+  for submission in solution starter; do
+    [ "$status" = 0 ] || break
+    rm -rf "$ROOTFS/autograder/submission" "$ROOTFS/autograder/results"
+    cp -r "$ROOTFS/tmp/submissions/$submission" "$ROOTFS/autograder/submission"
+    mkdir -p "$ROOTFS/autograder/results"
+    started=$(seconds)
+    in_root "cd /autograder && ./run_autograder" </dev/null || true
+    took=$(($(seconds) - started))
+    case "$submission" in
+      solution) expect=(--expect-fraction-at-least 1.0) ;;
+      starter) expect=(--expect-fraction-at-most 0.1) ;;
+    esac
+    if verdict=$(python3 "$REPO/tools/gradescope_results.py" \
+        "$ROOTFS/autograder/results/results.json" "${expect[@]}" 2>&1); then
+      result=passed
+    else
+      result=FAILED; status=1
+    fi
+    summary+=("fresh $SUITE gradescope: $submission $result in $took s: ${verdict##*: }")
+  done
+  printf '%s\n' "${summary[@]}"
+  echo "fresh $SUITE: $python_version"
+  exit "$status"
+fi
+
 # 4. The README's commands, as written.
 test_command="./course test${CHAPTER:+ $CHAPTER}"
 summary=()
@@ -129,7 +188,6 @@ for command in "./course run" "$test_command"; do
   summary+=("fresh $SUITE: '$command' $result in $((took / 60)) min $((took % 60)) s")
   [ "$status" = 0 ] || break
 done
-python_version=$(chroot "$ROOTFS" python3 -V 2>&1 || true)
 mesa=$(chroot "$ROOTFS" dpkg-query -W -f='${Version}' libgl1-mesa-dri 2>/dev/null || echo "?")
 printf '%s\n' "${summary[@]}"
 echo "fresh $SUITE: $python_version, Mesa $mesa"
