@@ -95,7 +95,9 @@ std::string CommandLine::usage() const {
         << "  --json                  print one line of statistics as JSON on stdout\n"
         << "  --verbose               say what happens (backend, GL renderer, timings)\n"
         << "  --frames N              window mode: close after N frames\n"
-        << "  --shader-dir DIR        load shaders from DIR instead of the built-in path\n";
+        << "  --shader-dir DIR        load shaders from DIR instead of the built-in path\n"
+        << "  --probe-loop-limit      measure how many loop iterations this GL lets a\n"
+        << "                          shader invocation run, print it and stop\n";
     for (const auto& o : extra_) {
         std::string left = o.name + (o.valueName.empty() ? "" : " " + o.valueName);
         out << "  " << left << std::string(left.size() < 24 ? 24 - left.size() : 1, ' ')
@@ -143,6 +145,8 @@ bool CommandLine::parse(int argc, const char* const* argv, Options& options) con
             options.json = true;
         } else if (arg == "--verbose" || arg == "-v") {
             options.verbose = true;
+        } else if (arg == "--probe-loop-limit") {
+            options.probeLoopLimit = true;
         } else if (arg == "--frames") {
             options.frames = parseBounded(arg, value(), 1, 1 << 30);
         } else if (arg == "--shader-dir") {

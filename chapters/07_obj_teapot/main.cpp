@@ -4,8 +4,8 @@
 #include <string>
 
 #include "camera.h"
+#include "course/loop_budget.h"
 #include "course/session.h"
-#include "loop_budget.h"
 #include "obj_loader.h"
 #include "scene.h"
 #include "shared.h"  // bindings, the tile size and the triangle struct, shared with GLSL
@@ -35,9 +35,13 @@ int main(int argc, char** argv) {
         Mesh mesh = loadObj(objPath);
         session.stats().set("triangles", double(mesh.triangleCount()));
 
-        // 2. Every ray tests every triangle: on llvmpipe, whose loops stop silently at
-        //    65535 iterations, refuse a mesh too big for that (exit code 4).
-        checkLoopBudget(mesh.triangleCount() + 2, objPath);  // + the floor's 2
+        // 2. Every ray tests every triangle in a loop: up to two loops over them all per
+        //    pixel (the camera ray's, the shadow ray's). Where the GL ends long loops
+        //    silently (Mesa 22's llvmpipe: 65535 iterations), a mesh too big for that
+        //    is refused (exit code 4) rather than drawn wrong.
+        course::checkLoopBudget({objPath, mesh.triangleCount() + 2,  // + the floor's 2
+                                 "triangles (with the floor's 2)", 2,
+                                 "Chapter 11's BVH renders this mesh."});
 
         // 3. The scene around the mesh, from its bounds: camera, floor and light.
         Scene scene = sceneAround(mesh, objPath, width, height);

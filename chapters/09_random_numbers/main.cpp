@@ -5,8 +5,8 @@
 #include <string>
 
 #include "camera.h"
+#include "course/loop_budget.h"
 #include "course/session.h"
-#include "loop_budget.h"
 #include "normals.h"
 #include "obj_loader.h"
 #include "random_dump.h"
@@ -39,8 +39,11 @@ int main(int argc, char** argv) {
         const std::string objPath = objOption.empty() ? kDefaultMesh : objOption;
         Mesh mesh = loadObj(objPath);
         session.stats().set("triangles", double(mesh.triangleCount()));
-        // A sample traces a camera ray and, for --view ao, one more: two loops.
-        checkLoopBudget(2 * (mesh.triangleCount() + 2), objPath);
+        // A sample loops over every triangle at most twice: the camera ray's nearest hit,
+        // then the shadow ray (or --view ao's ray). Too many for the GL: exit code 4.
+        course::checkLoopBudget({objPath, mesh.triangleCount() + 2,  // + the floor's 2
+                                 "triangles (with the floor's 2)", 2,
+                                 "Chapter 11's BVH renders this mesh."});
         if (mesh.normalIndices.empty()) {
             mesh.normals = areaWeightedNormals(mesh.positions, mesh.positionIndices);
             mesh.normalIndices = mesh.positionIndices;
@@ -78,8 +81,8 @@ int main(int argc, char** argv) {
         trace.set("aoDistance", 0.5f * scene.radius);
 
         // --8<-- [start:progressive]
-        // 4. One sample per pixel per dispatch: llvmpipe stops an invocation after
-        //    65535 loop iterations, so a dispatch must stay small. Every dispatch
+        // 4. One sample per pixel per dispatch: Mesa 22's llvmpipe stops an invocation
+        //    after 65535 loop iterations, so a dispatch must stay small. Every dispatch
         //    reads the state and the mean the one before wrote: a barrier between.
         unsigned samples = 0;
         auto addSample = [&] {

@@ -9,9 +9,9 @@
 
 #include "camera.h"
 #include "course/fly_camera.h"
+#include "course/loop_budget.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-#include "loop_budget.h"
 #include "scene_file.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
@@ -52,9 +52,12 @@ int main(int argc, char** argv) {
         SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
                                             {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
-        // Each bounce tests every shape twice (nearest hit, shadow ray): llvmpipe's
-        // loop limit caps shapes x bounces (chapter 07).
-        checkLoopBudget(scene.shapeCount() * (size_t(depth) + 1), sceneFile.path);
+        // The camera ray and each bounce loop over every shape twice (nearest hit,
+        // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07).
+        course::checkLoopBudget({sceneFile.path, scene.shapeCount(),
+                                 "shapes at --depth " + std::to_string(depth),
+                                 2 * (size_t(depth) + 1),
+                                 "A lower --depth, or chapter 11's BVH, renders it."});
         session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("emitters", double(scene.emitters.size()));
 

@@ -12,9 +12,9 @@
 #include "bvh.h"
 #include "course/fly_camera.h"
 #include "course/log.h"
+#include "course/loop_budget.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-#include "loop_budget.h"
 #include "scene_file.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
         size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
         const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
                                         : "Fewer spheres and quads, or a lower --depth, fit.";
-        checkLoopBudget(looped * rounds, sceneFile.path, wayOut);
+        course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
+                                 2 * rounds, wayOut});
         session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("triangles", double(scene.triangles.size()));
         session.stats().set("emitters", double(scene.emitters.size()));

@@ -11,9 +11,9 @@
 #include "accumulation.h"
 #include "camera.h"
 #include "course/fly_camera.h"
+#include "course/loop_budget.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-#include "loop_budget.h"
 #include "scene_buffers.h"
 #include "scene_file.h"
 #include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
@@ -59,9 +59,13 @@ int main(int argc, char** argv) {
         SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
                                             {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
-        // Each bounce tests every shape twice (nearest hit, shadow ray): llvmpipe's
-        // loop limit caps shapes x bounces (chapter 07), for fragment shaders too.
-        checkLoopBudget(scene.shapeCount() * (size_t(depth) + 1), sceneFile.path);
+        // The camera ray and each bounce loop over every shape twice (nearest hit,
+        // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07), and it is
+        // measured for fragment shaders here.
+        course::checkLoopBudget({sceneFile.path, scene.shapeCount(),
+                                 "shapes at --depth " + std::to_string(depth),
+                                 2 * (size_t(depth) + 1), "A lower --depth renders it.",
+                                 GL_FRAGMENT_SHADER});
         session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("emitters", double(scene.block->shapeCounts.w));
 

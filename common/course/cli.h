@@ -22,6 +22,7 @@ struct Options {
     Backend backend = Backend::Auto;
     bool json = false;          // --json: one line of stats on stdout
     bool verbose = false;       // --verbose
+    bool probeLoopLimit = false;  // --probe-loop-limit: measure it, print it, stop
     int frames = 0;             // --frames N: window mode closes after N frames
     std::string shaderDir;      // --shader-dir: overrides the folder fixed at build time
     std::string assetDir;       // --asset-dir

@@ -8,8 +8,8 @@
 
 // --8<-- [start:limits]
 // The most triangles in one leaf. The traversal tests them one after the other, written
-// out rather than in a loop: llvmpipe stops a shader invocation after 65535 loop
-// iterations, and counts every iteration of every loop (bvh_traversal.glsl).
+// out rather than in a loop: Mesa 22's llvmpipe stops a shader invocation after 65535
+// loop iterations, and counts every iteration of every loop (bvh_traversal.glsl).
 #define BVH_MAX_LEAF_SIZE 4
 
 // The deepest leaf is found after at most this many node fetches: buildBvh() switches

@@ -35,8 +35,9 @@ const float BVH_MISS = 3.0e38;
 const float BVH_FAR = 1.0e38;
 
 // Iterations of the traversal loop, added up over all calls: the number to watch on
-// llvmpipe, which runs invocations in groups of 8 and stops a group, silently, after
-// 65535 loop iterations in all (the slowest of the 8 decides how many a loop takes).
+// Mesa 22's llvmpipe, which runs invocations in groups of 8 and stops a group, silently,
+// after 65535 loop iterations in all (the slowest of the 8 decides how many a loop
+// takes). The course measures that limit at run time (common/course/loop_budget.h).
 uint bvhLoopIterations = 0u;
 
 // --8<-- [start:ray]
@@ -75,7 +76,7 @@ float bvhEnterBox(BvhRay ray, vec3 boxMin, vec3 boxMax, float tMin, float tMax) 
     // Rounding could make a ray that grazes an edge of the box miss it by an ulp, and
     // lose a triangle on that edge; a slightly later exit keeps the test conservative.
     return enter <= exit * 1.0000004 ? enter : BVH_MISS;
-    // STUB: return boxMin.x <= boxMax.x ? tMin : BVH_MISS;  // every real box is entered
+    // STUB: return BVH_MISS;  // every box missed: nothing in the tree is ever hit
     // END SOLUTION
 }
 // --8<-- [end:slab]
@@ -126,8 +127,9 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
         }
         haveCurrent = false;
 
-        // 2. A leaf: test its triangles. Written out rather than looped: llvmpipe counts
-        //    every loop iteration against its limit, and a leaf has at most 4 of them.
+        // 2. A leaf: test its triangles. Written out rather than looped: a GL with a loop
+        //    limit (Mesa 22's llvmpipe) counts every iteration against it, and a leaf has
+        //    at most 4 of them.
         uint first = current.x, count = current.y;
         if (count > 0u) {
             bvhTestTriangle(ray, first, tMin, found, triangle, t, uv);

@@ -68,6 +68,22 @@ def run_chapter(prefix: str, *args: str, cwd: Path | None = None, env: dict | No
     return Run(result.returncode, result.stdout, result.stderr)
 
 
+# No GL is known to end shader loops sooner than Mesa 22's llvmpipe: common/course/
+# loop_budget.h's kSmallestKnownLoopLimit, the most a chapter does without a probe.
+SMALLEST_KNOWN_LOOP_LIMIT = 65535
+
+
+def loop_limit(prefix: str, env: dict | None = None) -> int | None:
+    """The loop limit the chapter measures for the shaders it runs (--probe-loop-limit):
+    iterations per invocation (65 535 on Mesa 22's llvmpipe), or None when every
+    iteration the probe asked for ran (Mesa 25's llvmpipe, a GPU). Tests choose what to
+    expect from this measurement, never from the renderer's name."""
+    result = run_chapter(prefix, "--headless", "--probe-loop-limit", "--json", env=env)
+    assert result.returncode == 0, result.stderr
+    limit = json.loads(result.stdout)["loop_limit"]
+    return None if limit == "none" else int(limit)
+
+
 @pytest.fixture(autouse=True)
 def _scratch_folder(tmp_path, monkeypatch):
     """Every test runs in its own empty folder."""
