@@ -14,7 +14,7 @@ The input is a JSON file of measurements, either a list of records or an object 
     rays:    "primary" or "diffuse"
     method:  "brute_force" or "bvh"
 
-A combination may be missing (brute force cannot do a million triangles on llvmpipe);
+A combination may be missing (brute force is refused beyond a GL's loop limit);
 where both methods were measured, the right panel shows the BVH's speed-up.
 
     python python_prototypes/bench_plot.py --input bench.json --figure scaling.png
