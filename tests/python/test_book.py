@@ -1,8 +1,13 @@
-"""The book builds strictly, with every figure rendered by the real programs, and the
-front door's read-only verbs work."""
+"""The book builds strictly, with every figure rendered by the real programs and every
+formula typeset as MathML, its setup page shows the platform table it is generated
+from, and the front door's read-only verbs work."""
 
+import html as html_module
+import re
 import subprocess
 import sys
+
+import pytest
 
 from conftest import ROOT, read_image
 
@@ -41,3 +46,123 @@ def test_list_names_every_chapter():
     assert result.returncode == 0
     for folder in sorted((ROOT / "chapters").iterdir()):
         assert folder.name in result.stdout
+
+
+# ---------------------------------------------------------------- formulas
+
+sys.path.insert(0, str(ROOT / "book" / "hooks"))
+import mathml  # noqa: E402  (book/hooks/mathml.py: the formulas, typeset at build time)
+
+
+def built_pages(site) -> list:
+    return sorted(p for p in site.rglob("*.html") if "assets" not in p.parts)
+
+
+def test_every_formula_is_mathml_in_the_built_book(built_book):
+    """No page keeps a formula as TeX: every arithmatex wrapper holds a <math> element
+    (the browser test checks the same of the text a reader sees)."""
+    typeset = 0
+    for page in built_pages(built_book):
+        html = page.read_text()
+        for wrapper in re.finditer(r'class="arithmatex">(.{0,6})', html):
+            assert wrapper.group(1).startswith("<math"), \
+                f"{page.relative_to(built_book)}: a formula left as TeX: {wrapper.group(0)}"
+            typeset += 1
+    assert typeset >= 20  # chapters 04, 05, 06, 08, 09, 10 and 11 have formulas
+    page = (built_book / "chapters" / "10_path_tracing" / "index.html").read_text()
+    assert '<math alttext="L_o(x, \\omega_o)' in page and 'display="block"' in page
+
+
+@pytest.mark.parametrize("tex, element", [
+    (r"\frac{a}{b}", "<mfrac>"),
+    (r"\sum_{i=1}^{N} x_i", "&#x02211;"),
+    (r"\int_{H^2} f \, d\omega", "&#x0222B;"),
+    (r"L_o(x, \omega_o)", "<msub>"),
+    (r"\omega \theta \pi", "&#x003C9;"),
+    (r"\mathbf{v} \cdot \mathbf{n}", "&#x1D42F;"),  # bold v
+    (r"\sqrt{b^2 - c}", "<msqrt>"),
+    (r"\text{albedo} \cdot \max(0, N \cdot L)", "<mtext>albedo</mtext>"),
+])
+def test_formulas_become_mathml(tex, element):
+    for display in (False, True):
+        result = mathml.to_mathml(tex, display)
+        assert result.startswith("<math ") and element in result, result
+        assert f'display="{"block" if display else "inline"}"' in result
+
+
+def test_a_function_name_is_set_apart_from_its_argument():
+    assert '<mi>cos</mi><mspace width="0.167em" />' in mathml.to_mathml(r"\cos\theta", False)
+    assert "<mi>cos</mi><mo" in mathml.to_mathml(r"\cos(x)", False)
+
+
+@pytest.mark.parametrize("tex, reason", [
+    (r"\foo x", "does not know \\foo"),         # latex2mathml would print "\foo"
+    (r"\frac{a}{b", "never closed"),
+    (r"a}", "closes nothing"),
+    (r"\frac{a}", "<mfrac> has 1 parts"),       # latex2mathml: a fraction of one part
+    (r"a &= b", "not well-formed"),             # latex2mathml: a bare '&' in the XML
+    (r"x_", "latex2mathml"),
+    (r"\left( a \right", "latex2mathml"),
+])
+def test_formulas_latex2mathml_gets_wrong_are_refused(tex, reason):
+    with pytest.raises(mathml.FormulaError, match=re.escape(reason)):
+        mathml.to_mathml(tex, True)
+
+
+def test_a_formula_that_cannot_be_typeset_fails_the_strict_build(tmp_path):
+    """The hook's error names the page and the formula, and --strict turns it into a
+    failed build (a book with raw TeX in it must not pass)."""
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "index.md").write_text("Fine: $a_1$.\n")
+    (tmp_path / "docs" / "broken.md").write_text("Broken:\n\n$$ x = \\frobnicate{y} $$\n")
+    (tmp_path / "mkdocs.yml").write_text(
+        "site_name: t\nmarkdown_extensions:\n  - pymdownx.arithmatex:\n      generic: true\n"
+        f"hooks:\n  - {ROOT / 'book' / 'hooks' / 'mathml.py'}\n")
+    result = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q"],
+                            cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode != 0
+    assert "broken.md" in result.stderr and "\\frobnicate" in result.stderr, result.stderr
+    assert "index.md" not in result.stderr
+
+
+# ---------------------------------------------------------------- the setup page
+
+sys.path.insert(0, str(ROOT / "tools"))
+import machine_setup  # noqa: E402
+import platforms  # noqa: E402
+
+
+def page_text(path) -> str:
+    return html_module.unescape(re.sub(r"<[^>]+>", " ", path.read_text()))
+
+
+def test_setup_page_shows_every_platform_and_package_of_the_table(built_book):
+    """The table is generated from tools/platforms.ini: every row, every layer's
+    packages, the browser, the libLLVM and how the row was tested are on the page."""
+    page = built_book / "setup" / "index.html"
+    source = page.read_text()
+    text = " ".join(page_text(page).split())
+    for platform in platforms.read_table().values():
+        assert " ".join(platform.name.split()) in text, platform.key
+        for layer in platforms.LAYERS:
+            for package in platform.packages[layer]:
+                assert f"<code>{html_module.escape(package)}</code>" in source, \
+                    f"{platform.key}: {layer} package {package}"
+        if platform.browser == "playwright":
+            assert "Playwright" in text
+        else:
+            assert f"<code>{platform.browser}</code>" in source, platform.key
+        if platform.libllvm:
+            assert f"<code>{platform.libllvm}</code>" in source, platform.key
+        assert " ".join(platform.tested.split()) in text, platform.key
+    assert "requirements.txt" not in text  # the single file of before the layers
+
+
+def test_setup_page_gives_every_exit_code_of_set_up(built_book):
+    source = (built_book / "setup" / "index.html").read_text()
+    codes = {name: value for name, value in vars(machine_setup).items()
+             if name.isupper() and isinstance(value, int) and not isinstance(value, bool)}
+    assert set(codes) >= {"UNKNOWN_PLATFORM", "MISSING_PACKAGES", "NO_PACKAGE_MANAGER",
+                          "PYTHON_TOO_OLD", "PIP_FAILED"}
+    for name, code in codes.items():
+        assert f"<td>{code}</td>" in source, f"exit code {code} ({name}) is not explained"
