@@ -24,7 +24,9 @@
 # the course is installed) is cached as a tarball in COURSE_FRESH_CACHE
 # (default /var/tmp/course-fresh), keyed by suite and package list.
 set -euo pipefail
-
+# The whole script is one block, read before any of it runs: editing this file while a
+# check is under way (it takes minutes) cannot change the running check.
+{
 usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 [ $# -ge 1 ] || usage
 SUITE="$1"; shift
@@ -192,3 +194,4 @@ mesa=$(chroot "$ROOTFS" dpkg-query -W -f='${Version}' libgl1-mesa-dri 2>/dev/nul
 printf '%s\n' "${summary[@]}"
 echo "fresh $SUITE: $python_version, Mesa $mesa"
 exit "$status"
+}
