@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 #include <vector>
 
@@ -65,6 +66,8 @@ constexpr uint32_t kProbeSeed = 2463534242u;  // any but 0, where xorshift stays
 // One compute invocation; the result goes to a storage buffer at binding 0, whose
 // previous binding is put back afterwards (as is the current program).
 uint32_t runComputeProbe(long long iterations) {
+    if (!GLAD_GL_VERSION_4_3)  // measureLoopLimit() asks for the fragment probe instead
+        throw std::logic_error("the compute-shader loop probe needs OpenGL 4.3");
     GLint oldProgram = 0, oldBuffer = 0, oldGeneric = 0;
     GLint64 oldStart = 0, oldSize = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &oldProgram);
