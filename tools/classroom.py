@@ -201,7 +201,7 @@ def release(root: Path, chapter: str, out: Path) -> Path:
                                                          title=title))
     workflow = out / ".github" / "workflows" / "classroom.yml"
     workflow.parent.mkdir(parents=True)
-    workflow.write_text(CLASSROOM_WORKFLOW.format(number=number))
+    workflow.write_text(classroom_workflow(number))
     return out
 
 
@@ -224,20 +224,38 @@ cd /autograder/source/course
 ./course grade {number} --submission /autograder/submission --out /autograder/results
 """
 
-CLASSROOM_WORKFLOW = """# GitHub Classroom: run this chapter's checks on every push.
-name: autograding
+# A plain GitHub Actions workflow (GitHub Classroom's own autograding actions are
+# deprecated): the chapter's checks pass or fail on every push, with the course's
+# layered set-up. "{number}" is the chapter; GitHub's own ${{ }} stays as written.
+CLASSROOM_WORKFLOW = """# Chapter {number}'s checks on every push: the same ones ./course test {number} runs.
+name: chapter {number} checks
 on: [push, workflow_dispatch]
 permissions:
   contents: read
 jobs:
   checks:
     runs-on: ubuntu-24.04
-    timeout-minutes: 30
+    timeout-minutes: 45
     steps:
-      - uses: actions/checkout@v4
+      - uses: actions/checkout@v6
+      - name: the test layer's Ubuntu packages
+        run: >-
+          sudo apt-get update &&
+          sudo apt-get install -y --no-install-recommends $(./course packages test)
+      - name: the Python layers, from the cache when the requirements have not changed
+        uses: actions/cache@v5
+        with:
+          path: |
+            .venv
+            ~/.cache/ms-playwright
+          key: venv-ubuntu-24.04-${{ hashFiles('requirements/*.txt') }}
       - name: chapter {number} checks
-        run: sudo ./course setup && ./course test {number}
+        run: ./course test {number}
 """
+
+
+def classroom_workflow(number: str) -> str:
+    return CLASSROOM_WORKFLOW.replace("{number}", number)
 
 
 def tracked_files(root: Path) -> list[Path]:
