@@ -84,7 +84,7 @@ def on_page_content(content: str, page, config, files) -> str:
         try:
             mathml = to_mathml(tex, display)
         except FormulaError as error:
-            log.error(f"{page.file.src_uri}: the formula {' '.join(tex.split())!r} "
+            log.error(f"{page.file.src_uri}: the formula \"{' '.join(tex.split())}\" "
                       f"cannot be typeset: {error}")
             return match[0]
         return match["open"] + mathml + match["close"]
