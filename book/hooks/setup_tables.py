@@ -1,20 +1,25 @@
-"""The setup page's table of platforms and packages, written from tools/platforms.ini (the
-table ./course installs from) before every build, so the page cannot drift from it.
+"""The setup page's tables, written before every build from what ./course itself reads,
+so the page cannot drift from it: the layers (which verbs set each up, and the Python
+packages of requirements/<layer>.txt) and the platforms (tools/platforms.ini).
 
-It goes to docs/generated/platforms.md (git-ignored, like the figures), which setup.md
-pulls in with a snippet; mkdocs.yml keeps docs/generated/*.md from becoming pages."""
+They go to docs/generated/layers.md and platforms.md (git-ignored, like the figures),
+which setup.md pulls in with snippets; mkdocs.yml keeps docs/generated/*.md from
+becoming pages."""
 
 from __future__ import annotations
 
 import html
+import re
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
+import course  # noqa: E402  (tools/course.py: VERB_LAYERS, which verb needs which layer)
 import platforms  # noqa: E402  (tools/platforms.py: standard library only)
 
-OUT = ROOT / "book" / "docs" / "generated" / "platforms.md"
+GENERATED = ROOT / "book" / "docs" / "generated"
+REQUIREMENTS = ROOT / "requirements"
 
 
 def cell(text: str) -> str:
@@ -70,8 +75,41 @@ def table(rows: dict[str, platforms.Platform]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def pinned(layer: str) -> list[tuple[str, str]]:
+    """(name, version) of each package requirements/<layer>.txt pins itself."""
+    found = []
+    for line in (REQUIREMENTS / f"{layer}.txt").read_text().splitlines():
+        match = re.match(r"\s*([A-Za-z0-9_.\-]+)==(\S+)", line.split("#")[0])
+        if match:
+            found.append((match[1], match[2]))
+    return found
+
+
+def layers_table() -> str:
+    verbs = {layer: [f"`{verb}`" for verb, needs in course.VERB_LAYERS.items()
+                     if needs == layer and verb != "setup"] for layer in platforms.LAYERS}
+    lines = [
+        "<!-- Written by book/hooks/setup_tables.py from tools/course.py, "
+        "tools/platforms.py and requirements/: edit those. -->",
+        "",
+        "| layer | set up by `./course` | builds on | Python packages it adds |",
+        "|---|---|---|---|",
+    ]
+    for layer in platforms.LAYERS:
+        below = [f"`{part}`" for part in platforms.INCLUDES[layer] if part != layer]
+        python = ", ".join(f"`{name}` {version}" for name, version in pinned(layer))
+        lines.append(f"| `{layer}` | {', '.join(verbs[layer])} | {', '.join(below) or '—'} "
+                     f"| {python or 'none'} |")
+    return "\n".join(lines) + "\n"
+
+
+def write(name: str, text: str):
+    out = GENERATED / name
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if not out.exists() or out.read_text() != text:  # `mkdocs serve` watches this folder
+        out.write_text(text)
+
+
 def on_pre_build(config):
-    text = table(platforms.read_table())
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    if not OUT.exists() or OUT.read_text() != text:  # `mkdocs serve` watches this folder
-        OUT.write_text(text)
+    write("layers.md", layers_table())
+    write("platforms.md", table(platforms.read_table()))

@@ -158,6 +158,25 @@ def test_setup_page_shows_every_platform_and_package_of_the_table(built_book):
     assert "requirements.txt" not in text  # the single file of before the layers
 
 
+def test_setup_page_shows_each_layers_verbs_and_python_packages(built_book):
+    """The layers table is generated from tools/course.py's VERB_LAYERS and the
+    requirements files: every verb that sets up a layer, every pinned package."""
+    import course
+    source = (built_book / "setup" / "index.html").read_text()
+    rows = {row.group(1): row.group(0) for row in re.finditer(
+        r"<tr>\s*<td><code>(\w+)</code></td>.*?</tr>", source, flags=re.S)}
+    for layer in platforms.LAYERS:
+        assert layer in rows, f"no row for the {layer} layer"
+        for verb, needs in course.VERB_LAYERS.items():
+            if needs == layer and verb != "setup":
+                assert f"<code>{verb}</code>" in rows[layer], f"{layer}: ./course {verb}"
+        requirements = ROOT / "requirements" / f"{layer}.txt"
+        for line in requirements.read_text().splitlines():
+            name, pin, version = line.split("#")[0].strip().partition("==")
+            if pin:
+                assert f"<code>{name}</code> {version}" in rows[layer], f"{layer}: {name}"
+
+
 def test_setup_page_gives_every_exit_code_of_set_up(built_book):
     source = (built_book / "setup" / "index.html").read_text()
     codes = {name: value for name, value in vars(machine_setup).items()
