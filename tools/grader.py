@@ -237,6 +237,31 @@ def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> P
     return path
 
 
+def statistical_references(root: Path, build: Path, chapter: str,
+                           test: GradeTest) -> list[Path]:
+    """The solution's PFMs a 'statistical' or 'traversal' test compares with
+    (tools/grading_statistics.py: many samples at a few seeds, or chapter 11's distance
+    and cost views), rendered once by the instructor's build and kept beside the
+    reference images, each named by a hash of its arguments."""
+    import grading_statistics
+    for folder in (build / "grading", build / "grading" / chapter):
+        folder.mkdir(exist_ok=True)
+        os.chmod(folder, 0o700)  # only the grader's own user opens the references
+    paths = []
+    for arguments in grading_statistics.reference_arguments(test):
+        digest = hashlib.sha256("\0".join(arguments).encode()).hexdigest()[:16]
+        path = build / "grading" / chapter / f"{test.slug}-{digest}.pfm"
+        if not path.exists():
+            # A name of its own, then a rename: two graders may render the same one.
+            partial = path.with_name(f".{path.stem}.{os.getpid()}.{id(arguments)}.pfm")
+            subprocess.run([str(build / "bin" / chapter), "--headless", *arguments,
+                            "--out", str(partial)], check=True, capture_output=True,
+                           timeout=1800)
+            partial.replace(path)
+        paths.append(path)
+    return paths
+
+
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
                workdir: Path, report_dir: Path, extra_args: list[str]) -> Outcome:
     """Runs the submission with the test's arguments plus extra_args (its shader folder);
@@ -249,6 +274,18 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
         outcome.output = (("passed" if passed else f"failed: {describe_exit(code)}") +
                           f"\n{output.strip()}")
         return outcome
+
+    if test.kind in ("statistical", "traversal"):
+        # Random pictures by statistics, chapter 11's tree by its work within a band:
+        # tools/grading_statistics.py, with this grader's runner and references.
+        import grading_statistics
+        return grading_statistics.grade_test(
+            test, outcome, workdir, report_dir,
+            run=lambda arguments, out: run_limited(
+                [str(program), "--headless", *arguments, *extra_args, "--out", str(out)],
+                workdir),
+            references=lambda: statistical_references(root, build, chapter, test),
+            describe=describe_exit)
 
     out = workdir / f"{test.slug}.png"
     code, output = run_limited([str(program), "--headless", *test.args, *extra_args,
