@@ -209,12 +209,20 @@ def release(root: Path, chapter: str, out: Path) -> Path:
 
 GRADESCOPE_SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, when the autograder image is built: the grading
-# layer only (the build's packages, numpy and matplotlib; no browser, no Mitsuba), then
-# the chapter's build.
+# layer only (the build's packages, numpy and matplotlib; no browser, no Mitsuba), the
+# chapter's build, and the reference images its solution renders. Then the solutions
+# leave the image: every chapter carries the code of the chapters before it, so all of
+# chapters/ and shaders/ go, with the programs and objects built from them and the
+# numpy reference renderers. Grading needs only common/, tools/, the build's flags,
+# libraries and generated headers, and build/grading/ (the references).
 set -euo pipefail
 cd /autograder/source/course
 ./course setup grade
 ./course build
+./course grade {number} --prepare
+for chapter in chapters/*/; do rm -rf "build/CMakeFiles/$(basename "$chapter").dir"; done
+rm -rf chapters shaders build/bin python_prototypes
+chmod o-rwx /autograder/source /autograder/source/course
 """
 
 GRADESCOPE_RUN = """#!/usr/bin/env bash
@@ -279,7 +287,7 @@ def autograder_zip(root: Path, chapter: str, out: Path) -> Path:
             mode = 0o755 if executable else 0o644
             info.external_attr = (stat.S_IFREG | mode) << 16
             archive.writestr(info, text)
-        add_text("setup.sh", GRADESCOPE_SETUP, executable=True)
+        add_text("setup.sh", GRADESCOPE_SETUP.format(number=number), executable=True)
         add_text("run_autograder", GRADESCOPE_RUN.format(number=number), executable=True)
         for path in tracked_files(root):
             if path.is_file():

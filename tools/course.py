@@ -546,17 +546,36 @@ def cmd_release(args):
 
 def cmd_grade(args):
     import grader
+    import sandbox
     name = find_chapter(args.chapter)
     if name[:2] not in grader.SPECS:
         die(f"chapter {name} has no grading tests yet (tools/grading_specs.py)", code=2)
-    submission = Path(args.submission).resolve()
-    if not submission.is_dir():
-        die(f"--submission {submission}: not a folder", code=2)
-    build([name])
-    out = Path(args.out).resolve() if args.out else BUILD / "grades" / submission.name
-    results = grader.grade(ROOT, BUILD, name, submission, out, args.show_hidden)
-    grader.print_table(results)
-    print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
+    folder = Path(args.submission or args.submissions or ".").resolve()
+    if not args.prepare and not folder.is_dir():
+        die(f"--submission{'s' if args.submissions else ''} {folder}: not a folder", code=2)
+    if (ROOT / "chapters" / name).is_dir():
+        build([name])
+    elif not grader.is_prepared(BUILD, name):
+        die(f"chapters/{name} is gone and its references were never prepared "
+            f"(./course grade {name[:2]} --prepare, before the sources are removed)", code=2)
+    else:  # an autograder image: the solution's sources were removed after --prepare
+        say(f"grading without chapters/{name}: its references were prepared")
+    try:
+        if args.prepare:
+            for reference in grader.prepare(ROOT, BUILD, name):
+                print(reference)
+        elif args.submissions:
+            out = Path(args.out).resolve() if args.out else BUILD / "grades" / folder.name
+            summary = grader.grade_class(ROOT, BUILD, name, folder, out, args.jobs,
+                                         args.show_hidden, progress=say)
+            print(summary)
+        else:
+            out = Path(args.out).resolve() if args.out else BUILD / "grades" / folder.name
+            results = grader.grade(ROOT, BUILD, name, folder, out, args.show_hidden)
+            grader.print_table(results)
+            print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
+    except sandbox.SandboxError as error:
+        die(str(error))
 
 
 def cmd_autograder(args):
@@ -647,11 +666,22 @@ def main():
     release.add_argument("--out", help="folder to write (default build/release/NN_name-starter)")
 
     grade = verbs.add_parser("grade", help="grade a student submission of a chapter",
-                             description="Builds and runs the submission headless with "
-                             "limits and compares its images with the solution's.")
+                             description="Builds and runs the submission headless in a "
+                             "sandbox (another user, no network, limits; nothing of the "
+                             "instructor's readable) and compares its images with the "
+                             "solution's.")
     grade.add_argument("chapter")
-    grade.add_argument("--submission", required=True, help="the student's folder")
-    grade.add_argument("--out", help="where results.json and report.md go")
+    which = grade.add_mutually_exclusive_group(required=True)
+    which.add_argument("--submission", help="the student's folder")
+    which.add_argument("--submissions", help="a folder with one folder per student: grade "
+                       "them all, as many at once as there are cores; writes OUT/summary.csv")
+    which.add_argument("--prepare", action="store_true",
+                       help="only render the reference images (an autograder image does "
+                       "this before it removes the solution's sources)")
+    grade.add_argument("--out", help="where results.json and report.md go (--submissions: "
+                       "one folder per student in it)")
+    grade.add_argument("--jobs", type=int, help="--submissions: how many at once "
+                       "(default: the number of cores)")
     grade.add_argument("--show-hidden", action="store_true",
                        help="include hidden tests' details in the report")
 

@@ -1,43 +1,47 @@
-"""The autograder: ./course grade NN --submission DIR.
+"""The autograder: ./course grade NN --submission DIR (one) or --submissions DIR (a class).
 
 A submission is a folder shaped like a starter (chapters/NN_name/, shaders/NN_name/).
 Only those two folders are taken from it; everything else — the common layer, the
 build flags, the tests, the reference images — is the instructor's, so a submission
 cannot change how it is graded. The student's host code is compiled with the flags
-CMake used for the solution and linked with the instructor's common layer; the program
-runs headless in a scratch folder under CPU, wall-clock, file-size and output limits.
-Images are compared with references rendered by the instructor's solution, kept in
-build/grading/, outside any student's reach.
+CMake used for the solution and linked with the instructor's common layer, both taken
+from a read-only staging copy; it is compiled and run in a sandbox (tools/sandbox.py):
+as another user, without network, with limits, with none of the instructor's files
+readable. Images are compared with references rendered beforehand by the instructor's
+solution, kept in build/grading/, outside the submission's reach.
 
 Writes Gradescope's results.json, a Markdown report with images (submission,
-reference, error heatmap) and prints a table.
+reference, error heatmap) and prints a table; for a class, one folder of those per
+student and a CSV summary.
 """
 
 from __future__ import annotations
 
+import csv
 import hashlib
+import io
 import json
 import os
-import resource
+import re
 import shlex
 import shutil
 import signal
+import stat
 import subprocess
-import tempfile
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+import sandbox
 from grading_specs import SPECS, GradeTest
 
-OUTPUT_LIMIT = 20_000          # characters of a program's output kept in a report
-FILE_SIZE_LIMIT = 256 << 20    # bytes any one file the program writes may reach
-# Per run. A hung GPU or driver is killed at WALL_SECONDS; the environment may lower
-# both (the course's own tests of the grader do, to keep them short).
-CPU_SECONDS = int(os.environ.get("COURSE_GRADE_CPU_SECONDS", 120))
-WALL_SECONDS = int(os.environ.get("COURSE_GRADE_WALL_SECONDS", 180))
-COMPILE_SECONDS = 300
+OUTPUT_LIMIT = sandbox.OUTPUT_KEPT  # characters of a program's output kept in a report
+HEADER_SUFFIXES = {".h", ".hpp", ".hh", ".inl", ".ipp"}
+STAGED_FILE_LIMIT = 32 << 20  # the benchmark's million-triangle teapot is not staged
 
 
 @dataclass
@@ -50,149 +54,387 @@ class Outcome:
 
 # ---------------------------------------------------------------- running things
 
-def _limit_resources():
-    resource.setrlimit(resource.RLIMIT_CPU, (CPU_SECONDS, CPU_SECONDS + 5))
-    resource.setrlimit(resource.RLIMIT_FSIZE, (FILE_SIZE_LIMIT, FILE_SIZE_LIMIT))
-    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
-    os.setsid()  # its own process group, so a timeout kills every child too
+def run_limited(command: list[str], cwd: Path, timeout: float | None = None):
+    """Runs a student's program in the grading's sandbox (tools/sandbox.py); returns
+    (exit code, None on timeout, "output"/"disk" when it wrote too much; output)."""
+    run = sandbox.run_limited(command, cwd, timeout)
+    return run.code, run.output
 
 
-def run_limited(command: list[str], cwd: Path, timeout: float = WALL_SECONDS):
-    """Runs a student's program; returns (exit code or None on timeout, output)."""
-    log = cwd / ".output.log"
-    env = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "HOME": str(cwd),
-           "TMPDIR": str(cwd), "LANG": "C.UTF-8"}
-    for key in ("MESA_GL_VERSION_OVERRIDE", "LIBGL_ALWAYS_SOFTWARE", "GALLIUM_DRIVER"):
-        if key in os.environ:
-            env[key] = os.environ[key]
-    with open(log, "wb") as sink:
-        process = subprocess.Popen(command, cwd=cwd, stdout=sink, stderr=subprocess.STDOUT,
-                                   stdin=subprocess.DEVNULL, env=env,
-                                   preexec_fn=_limit_resources)
-        try:
-            code = process.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-            code = None
-    with open(log, "rb") as source:
-        text = source.read(OUTPUT_LIMIT + 1).decode("utf-8", "replace")
-    if len(text) > OUTPUT_LIMIT:
-        text = text[:OUTPUT_LIMIT] + "\n[output cut at 20 000 characters]"
-    log.unlink()
-    return code, text
-
-
-def describe_exit(code) -> str:
+def describe_exit(code, output: str = "", timeout: float | None = None) -> str:
+    limits = sandbox.current_limits()
     if code is None:
-        return f"did not finish within {WALL_SECONDS} s (killed)"
+        return f"did not finish within {timeout or limits.wall_seconds} s (killed)"
+    if code == "output":
+        return f"printed more than {limits.output_mb} MiB (killed)"
+    if code == "disk":
+        return f"left more than {limits.disk_mb} MiB in its folder (killed)"
     if code == -signal.SIGXCPU:
-        return f"used more than {CPU_SECONDS} s of CPU time (killed)"
+        return f"used more than {limits.cpu_seconds} s of CPU time (killed)"
+    if code == -signal.SIGXFSZ:
+        return f"wrote a file larger than {limits.file_mb} MiB (killed)"
     if code < 0:
-        return f"crashed with signal {signal.Signals(-code).name}"
-    return f"exit code {code}"
+        text = f"crashed with signal {signal.Signals(-code).name}"
+        if re.search(r"bad_alloc|Cannot allocate memory|out of memory", output, re.I):
+            text += f" (out of memory: the limit is {limits.memory_mb} MiB)"
+        return text
+    text = f"exit code {code}"
+    if "Resource temporarily unavailable" in output:
+        text += f" (at most {limits.processes} processes and threads)"
+    return text
+
+
+def read_regular(path: Path, limit: int) -> bytes:
+    """The bytes of a file a submission wrote, read without following a link it may
+    have left there, and never from a FIFO or a device. Raises OSError or ValueError
+    with what is wrong."""
+    try:
+        descriptor = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError as error:
+        if os.path.islink(path):
+            raise ValueError("left a link where the file should be (not followed)") from None
+        raise error
+    with os.fdopen(descriptor, "rb") as source:
+        status = os.fstat(source.fileno())
+        if not stat.S_ISREG(status.st_mode):
+            raise ValueError("left something that is not a regular file")
+        if status.st_size > limit:
+            raise ValueError(f"wrote a file larger than {limit >> 20} MiB")
+        return source.read(limit + 1)[:limit]
+
+
+def submitted_file(path: Path) -> tuple[bytes | None, str]:
+    """(its bytes, "") or (None, what is wrong), for the report."""
+    try:
+        return read_regular(path, sandbox.current_limits().file_mb << 20), ""
+    except FileNotFoundError:
+        return None, f"wrote no {path.name}"
+    except (OSError, ValueError) as error:
+        return None, f"{error} ({path.name})"
+
+
+def write_new(path: Path, data: bytes, mode: int = 0o644):
+    """Creates path (never through a link, never over a file) with data."""
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, mode)
+    with os.fdopen(descriptor, "wb") as sink:
+        sink.write(data)
+
+
+def write_atomically(path: Path, data: bytes):
+    """Whole or not at all, even with two graders at once."""
+    partial = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}")
+    partial.write_bytes(data)
+    partial.replace(path)
+
+
+def private_folder(path: Path) -> Path:
+    path.mkdir(parents=True, exist_ok=True)
+    os.chmod(path, 0o700)
+    return path
+
+
+# ---------------------------------------------------------------- staging
+
+class Staging:
+    """What compiling and linking a submission need from the instructor's tree — the
+    include folders and the folders named by -D macros in the chapter's compile flags,
+    the common layer's libraries — copied into a read-only folder outside the tree
+    (sandbox base/staging/NN_name-HASH, made once per content). rewrite() points a
+    compiler argument at the copies."""
+
+    def __init__(self, root: Path, build: Path, chapter: str, arguments: list[str],
+                 libraries: list[Path], base: Path):
+        # Never staged, whatever the flags say: any chapter's solution (later chapters
+        # carry earlier ones' code) and the references.
+        secret = [root / "chapters", root / "shaders", build / "grading", build / "bin"]
+        prefixes = sorted({str(build): "build", str(root): "source"}.items(),
+                          key=lambda item: -len(item[0]))
+        self.prefixes = prefixes
+        self.pattern = re.compile("(?:" + "|".join(re.escape(p) for p, _ in prefixes) +
+                                  r")(?:/[^\s\"']*)?(?=[\s\"']|$)")
+        wanted: dict[Path, str] = {}  # instructor's path -> "headers" | "all"
+        previous = ""
+        for argument in arguments:
+            include = argument.startswith(("-I", "-isystem", "-iquote")) or \
+                previous in ("-I", "-isystem", "-iquote")
+            for match in self.pattern.finditer(argument):
+                path = Path(match.group(0))
+                if any(path == s or s in path.parents or path in s.parents for s in secret):
+                    continue
+                if path.exists() and wanted.get(path) != "all":
+                    wanted[path] = "headers" if include and path.is_dir() else "all"
+            previous = argument
+        for library in libraries:
+            wanted[library] = "all"
+        files: list[tuple[Path, Path]] = []  # (instructor's file, staged relative path)
+        for path, kind in sorted(wanted.items()):
+            candidates = sorted(p for p in path.rglob("*") if p.is_file()) \
+                if path.is_dir() else [path]
+            for file in candidates:
+                if file.is_symlink() and not file.resolve().is_file():
+                    continue
+                if kind == "headers" and file.suffix not in HEADER_SUFFIXES:
+                    continue
+                if file.stat().st_size > STAGED_FILE_LIMIT:
+                    continue
+                files.append((file, self.relative(file)))
+        digest = hashlib.sha256()
+        for file, relative in files:
+            status = file.stat()
+            digest.update(f"{relative}\0{status.st_size}\0{status.st_mtime_ns}\0".encode())
+        folder = sandbox.prepare_base(base) / "staging"
+        folder.mkdir(exist_ok=True)
+        os.chmod(folder, 0o711)
+        self.path = folder / f"{chapter}-{digest.hexdigest()[:16]}"
+        if not self.path.is_dir():
+            self._make(files)
+        os.utime(self.path)
+        self._prune(folder, chapter)
+
+    def relative(self, path: Path) -> Path:
+        text = str(path)
+        for prefix, name in self.prefixes:
+            if text == prefix or text.startswith(prefix + "/"):
+                return Path(name) / text[len(prefix):].lstrip("/")
+        raise ValueError(f"{path} is not in the instructor's tree")
+
+    def staged(self, path: Path) -> Path:
+        return self.path / self.relative(path)
+
+    def rewrite(self, argument: str) -> str:
+        return self.pattern.sub(lambda m: str(self.staged(Path(m.group(0)))), argument)
+
+    def _make(self, files):
+        partial = self.path.with_name(f".{self.path.name}.{os.getpid()}."
+                                      f"{threading.get_ident()}")
+        for file, relative in files:
+            target = partial / relative
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(file, target)
+            os.chmod(target, 0o644)
+        for directory, _, _ in os.walk(partial):
+            os.chmod(directory, 0o755)
+        try:
+            partial.rename(self.path)
+        except OSError:  # another grader made the same one meanwhile
+            shutil.rmtree(partial, ignore_errors=True)
+
+    @staticmethod
+    def _prune(folder: Path, chapter: str, age_seconds: float = 86400):
+        """Copies of an older build of the chapter, unused for a day, go."""
+        for old in folder.glob(f"{chapter}-*"):
+            try:
+                if time.time() - old.stat().st_mtime > age_seconds:
+                    shutil.rmtree(old, ignore_errors=True)
+            except FileNotFoundError:
+                pass
 
 
 # ---------------------------------------------------------------- building
 
-def object_key(root: Path, chapter: str, source_dir: Path, source: Path,
-               arguments: list[str]) -> str:
-    """What a compiled object depends on, hashed: the compiler's arguments (with the
-    submission's folder and the output left out), the source, every header of the
-    submission's chapter and shader folders, and the common layer's headers. Two
-    submissions that share a file (a starter and its solution share all but a few)
-    then share its object."""
+def object_key(arguments: list[str], source: Path, source_dir: Path, chapter: str,
+               places: list[tuple[str, str]]) -> str:
+    """What the compiler is told, hashed: its arguments (with the submission's folder
+    and the staging copy as placeholders, the output left out), the source, and the
+    names of every file in the submission's chapter and shader folders (a file that is
+    only tested for, with __has_include, changes nothing else). What it then reads is
+    the second half of the key (dependency_digest): objects kept by object_key alone
+    would let a submission that shadows a header poison the next one's object."""
     digest = hashlib.sha256()
-    for argument in arguments:
-        digest.update(argument.replace(str(source_dir), "<submission>").encode() + b"\0")
-    headers = [*sorted((source_dir / "chapters" / chapter).glob("*.h")),
-               *sorted((source_dir / "shaders" / chapter).glob("*.h")),
-               *sorted((root / "common" / "course").glob("*.h"))]
-    for path in [source, *headers]:
-        digest.update(str(path.relative_to(source_dir if source_dir in path.parents
-                                           else root)).encode() + b"\0")
-        digest.update(path.read_bytes() + b"\0")
+    for argument in [*arguments, placeholder(str(source), places)]:
+        digest.update(placeholder(argument, places).encode() + b"\0")
+    digest.update(source.read_bytes() + b"\0")
+    for top in ("chapters", "shaders"):
+        folder = source_dir / top / chapter
+        for path in sorted(folder.rglob("*")):
+            digest.update(str(path.relative_to(source_dir)).encode() + b"\0")
     return digest.hexdigest()
+
+
+def placeholder(text: str, places: list[tuple[str, str]]) -> str:
+    for real, name in places:
+        text = text.replace(real, name)
+    return text
+
+
+def real_path(name: str, places: list[tuple[str, str]]) -> str:
+    for real, placeholder_name in places:
+        if name.startswith(placeholder_name):
+            return real + name[len(placeholder_name):]
+    return name
+
+
+def dependency_digest(names: list[str], places: list[tuple[str, str]]) -> str | None:
+    """The contents of every file the compiler read, hashed; None when one is gone or
+    is not a regular file (then nothing is kept)."""
+    digest = hashlib.sha256()
+    for name in names:
+        path = real_path(name, places)
+        if not os.path.isabs(path):
+            return None
+        try:
+            status = os.stat(path)
+            if not stat.S_ISREG(status.st_mode) or status.st_size > 64 << 20:
+                return None
+            with open(path, "rb") as source:
+                digest.update(name.encode() + b"\0" + source.read() + b"\0")
+        except OSError:
+            return None
+    return digest.hexdigest()
+
+
+def parse_dependencies(text: str) -> list[str]:
+    """The prerequisites of a make rule as gcc -MD writes it."""
+    text = text.replace("\\\n", " ")
+    _, _, prerequisites = text.partition(": ")
+    words = re.split(r"(?<!\\)\s+", prerequisites.strip())
+    return [w.replace("\\ ", " ") for w in words if w]
+
+
+def cached_object(folder: Path, places) -> Path | None:
+    for dependencies in sorted(folder.glob("*.deps")):
+        digest = dependency_digest(json.loads(dependencies.read_text()), places)
+        if digest and (folder / f"{digest}.o").exists():
+            return folder / f"{digest}.o"
+    return None
+
+
+def keep_object(folder: Path, target: Path, depfile: Path, places):
+    """Keeps a freshly compiled object under what it was compiled from. The object and
+    the dependency list are read safely: they sit in the submission's folder."""
+    try:
+        data = read_regular(target, 1 << 30)
+        names = [placeholder(p, places)
+                 for p in parse_dependencies(read_regular(depfile, 16 << 20).decode())]
+    except (OSError, ValueError, UnicodeDecodeError):
+        return
+    digest = dependency_digest(names, places)
+    if digest is None:
+        return
+    folder.mkdir(parents=True, exist_ok=True)
+    listing = json.dumps(names).encode()
+    write_atomically(folder / f"{hashlib.sha256(listing).hexdigest()[:16]}.deps", listing)
+    write_atomically(folder / f"{digest}.o", data)
 
 
 def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
                        workdir: Path) -> tuple[Path | None, str]:
-    """Compiles the submission's chapter sources like CMake compiled the solution.
-    Objects are kept in build/grading/objects by what they depend on (object_key), so a
-    file that many submissions leave as it was is compiled once."""
+    """Compiles the submission's chapter sources like CMake compiled the solution. In a
+    grading (an active sandbox) the flags point at the staging copy instead of the
+    instructor's tree, and the compiler runs in the sandbox. Objects are kept in
+    build/grading/objects by what they depend on (object_key, dependency_digest), so
+    a file that many submissions leave as it was is compiled once."""
+    box = sandbox.active()
+    limits = sandbox.current_limits()
     commands = json.loads((build / "compile_commands.json").read_text())
+    chapter_commands = [c for c in commands
+                        if c["file"].startswith(str(root / "chapters" / chapter) + "/")]
     objects, log = [], ""
-    cache = build / "grading" / "objects"
-    cache.mkdir(parents=True, exist_ok=True)
+    cache = private_folder(build / "grading" / "objects")
     sources = sorted((source_dir / "chapters" / chapter).glob("*.cpp"))
     if not sources:
         return None, f"no .cpp files in chapters/{chapter}/ of the submission"
+    libraries = [build / "common" / "libcourse_common.a", build / "libglad.a"]
+
+    def submission_arguments(entry) -> list[str]:
+        """The flags with the chapter's folders replaced by the submission's."""
+        return [a.replace(str(root / "chapters" / chapter),
+                          str(source_dir / "chapters" / chapter))
+                .replace(str(root / "shaders" / chapter), str(source_dir / "shaders" / chapter))
+                for a in shlex.split(entry["command"])]
+
+    staging = None
+    if box is not None:
+        staging = Staging(root, build, chapter,
+                          [a for c in chapter_commands for a in submission_arguments(c)],
+                          libraries, box.base)
+        libraries = [staging.staged(library) for library in libraries]
+    places = [(str(source_dir), "<submission>")]
+    if staging is not None:
+        places.insert(0, (str(staging.path), "<staging>"))
     for source in sources:
         original = root / "chapters" / chapter / source.name
-        entry = next((c for c in commands if c["file"] == str(original)), None)
+        entry = next((c for c in chapter_commands if c["file"] == str(original)), None)
         if entry is None:  # a file the solution does not have: use main.cpp's flags
-            entry = next(c for c in commands
+            entry = next(c for c in chapter_commands
                          if c["file"] == str(root / "chapters" / chapter / "main.cpp"))
-        arguments = [a.replace(str(root / "chapters" / chapter),
-                               str(source_dir / "chapters" / chapter))
-                     .replace(str(root / "shaders" / chapter),
-                              str(source_dir / "shaders" / chapter))
-                     for a in shlex.split(entry["command"])]
+        arguments = submission_arguments(entry)
+        if staging is not None:
+            arguments = [staging.rewrite(a) for a in arguments]
         target = workdir / (source.stem + ".o")
         arguments[arguments.index("-c") + 1] = str(source)
         output_index = arguments.index("-o") + 1
-        cached = cache / (object_key(root, chapter, source_dir, source,
-                                     arguments[:output_index - 1] +
-                                     arguments[output_index + 1:]) + ".o")
+        key = object_key(arguments[:output_index - 1] + arguments[output_index + 1:],
+                         source, source_dir, chapter, places)
         arguments[output_index] = str(target)
-        if cached.exists():
-            shutil.copyfile(cached, target)
+        cached = cached_object(cache / key, places)
+        if cached is not None:
+            write_new(target, cached.read_bytes())
         else:
-            code, output = run_limited(arguments, workdir, timeout=COMPILE_SECONDS)
+            depfile = workdir / (source.stem + ".d")
+            code, output = run_limited([*arguments, "-MD", "-MF", str(depfile)], workdir,
+                                       timeout=limits.compile_seconds)
             log += output
             if code != 0:
-                return None, f"compiling {source.name} failed ({describe_exit(code)}):\n{log}"
-            partial = cached.with_suffix(f".{os.getpid()}.partial")
-            shutil.copyfile(target, partial)
-            partial.replace(cached)  # whole or not at all, even with two graders at once
+                return None, (f"compiling {source.name} failed "
+                              f"({describe_exit(code, output, limits.compile_seconds)}):\n{log}")
+            keep_object(cache / key, target, depfile, places)
         objects.append(str(target))
     program = workdir / chapter
-    link = ["g++", *objects, "-o", str(program), str(build / "common" / "libcourse_common.a"),
-            str(build / "libglad.a"), "-lEGL", "-lglfw", "-ldl", "-lpthread"]
-    code, output = run_limited(link, workdir, timeout=COMPILE_SECONDS)
+    link = ["g++", *objects, "-o", str(program), *map(str, libraries),
+            "-lEGL", "-lglfw", "-ldl", "-lpthread"]
+    code, output = run_limited(link, workdir, timeout=limits.compile_seconds)
     if code != 0:
-        return None, f"linking failed ({describe_exit(code)}):\n{output}"
+        return None, (f"linking failed ({describe_exit(code, output, limits.compile_seconds)})"
+                      f":\n{output}")
     return program, log
 
 
 def copy_submission(submission: Path, chapter: str, destination: Path) -> str:
-    """Copies only chapters/NN and shaders/NN, refusing links and oversized files."""
+    """Copies only chapters/NN and shaders/NN, refusing links (anywhere on the way, so
+    that a submission cannot hand in the instructor's folder by pointing at it),
+    special files and oversized files."""
     notes = []
+    base = submission.resolve()
     for top in ("chapters", "shaders"):
         source = submission / top / chapter
-        if not source.is_dir():
-            notes.append(f"the submission has no {top}/{chapter}/ folder")
-            continue
-        for path in sorted(source.rglob("*")):
-            relative = path.relative_to(submission)
-            if path.is_symlink():
-                notes.append(f"ignored the link {relative}")
+        for step in (submission / top, source):
+            if step.is_symlink():
+                notes.append(f"ignored the link {step.relative_to(submission)}")
+                break
+        else:
+            if not source.is_dir():
+                notes.append(f"the submission has no {top}/{chapter}/ folder")
                 continue
-            if path.is_file():
+            for path in sorted(source.rglob("*")):
+                relative = path.relative_to(submission)
+                if path.is_symlink() or base not in path.resolve().parents:
+                    notes.append(f"ignored the link {relative}")
+                    continue
+                if path.is_dir():
+                    continue
+                if not path.is_file():
+                    notes.append(f"ignored {relative}: not a regular file")
+                    continue
                 if path.stat().st_size > 1 << 20:
                     notes.append(f"ignored {relative}: larger than 1 MiB")
                     continue
                 target = destination / relative
                 target.parent.mkdir(parents=True, exist_ok=True)
-                shutil.copyfile(path, target)
+                shutil.copyfile(path, target, follow_symlinks=False)
     return "\n".join(notes)
 
 
 # ---------------------------------------------------------------- images
 
-def read_png(path: Path) -> np.ndarray:
+def read_png(source: Path | bytes) -> np.ndarray:
+    """A PNG file, or a submission's PNG already read (read_regular): never more than
+    16 million pixels, so that a crafted file cannot take the grader's memory."""
     from PIL import Image
-    return np.asarray(Image.open(path).convert("RGB"), dtype=np.float64)
+    image = Image.open(io.BytesIO(source) if isinstance(source, bytes) else source)
+    if image.width * image.height > 1 << 24:
+        raise ValueError(f"{image.width}x{image.height} pixels is too large")
+    return np.asarray(image.convert("RGB"), dtype=np.float64)
 
 
 def agreement(image: np.ndarray, reference: np.ndarray) -> tuple[float, float]:
@@ -225,15 +467,23 @@ def write_heatmap(image: np.ndarray, reference: np.ndarray, path: Path):
 
 def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> Path:
     """The solution's image for the test's arguments (the instructor's build, its own
-    shaders), made once and kept; the file name carries a hash of the arguments, so a
-    changed spec makes a new one."""
-    folder = build / "grading" / chapter
-    folder.mkdir(parents=True, exist_ok=True)
+    shaders, run by the grader's own user, never in a submission's sandbox), made once
+    and kept in build/grading, which only that user can open; the file name carries a
+    hash of the arguments, so a changed spec makes a new one."""
+    private_folder(build / "grading")
+    folder = private_folder(build / "grading" / chapter)
     digest = hashlib.sha256("\0".join(test.args).encode()).hexdigest()[:10]
     path = folder / f"{test.slug}-{digest}.png"
     if not path.exists():
-        subprocess.run([str(build / "bin" / chapter), "--headless", *test.args,
-                        "--out", str(path)], check=True, capture_output=True, timeout=600)
+        program = build / "bin" / chapter
+        if not program.exists():
+            raise FileNotFoundError(f"no reference {path.name} and no {program} to render "
+                                    "it (was this autograder prepared for other tests?)")
+        # A name of its own, then a rename: two graders may render the same one at once.
+        partial = folder / f".{path.stem}.{os.getpid()}.{threading.get_ident()}.png"
+        subprocess.run([str(program), "--headless", *test.args, "--out", str(partial)],
+                       check=True, capture_output=True, timeout=600)
+        partial.replace(path)
     return path
 
 
@@ -262,6 +512,31 @@ def statistical_references(root: Path, build: Path, chapter: str,
     return paths
 
 
+def prepare_references(root: Path, build: Path, chapter: str) -> list[Path]:
+    """Every reference image of the chapter's tests, rendered before any submission's
+    code runs (and before an autograder image loses the solution's sources)."""
+    paths = []
+    for test in SPECS[chapter[:2]]:
+        if test.kind == "image":
+            paths.append(reference_image(root, build, chapter, test))
+        elif test.kind in ("statistical", "traversal"):
+            paths += statistical_references(root, build, chapter, test)
+    return paths
+
+
+def prepare(root: Path, build: Path, chapter: str) -> list[Path]:
+    """./course grade NN --prepare: the references, and a mark saying that grading may go
+    on without the solution's sources (an autograder image removes them after this)."""
+    references = prepare_references(root, build, chapter)
+    (build / "grading" / chapter / "prepared").write_text(
+        "".join(f"{p.name}\n" for p in references))
+    return references
+
+
+def is_prepared(build: Path, chapter: str) -> bool:
+    return (build / "grading" / chapter / "prepared").exists()
+
+
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
                workdir: Path, report_dir: Path, extra_args: list[str]) -> Outcome:
     """Runs the submission with the test's arguments plus extra_args (its shader folder);
@@ -271,7 +546,7 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
         code, output = run_limited([str(program), *test.args, *extra_args], workdir)
         passed = code == 0 and test.expect in output
         outcome.score = test.max_score if passed else 0.0
-        outcome.output = (("passed" if passed else f"failed: {describe_exit(code)}") +
+        outcome.output = (("passed" if passed else f"failed: {describe_exit(code, output)}") +
                           f"\n{output.strip()}")
         return outcome
 
@@ -290,11 +565,19 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
     out = workdir / f"{test.slug}.png"
     code, output = run_limited([str(program), "--headless", *test.args, *extra_args,
                                 "--out", str(out)], workdir)
-    if code != 0 or not out.exists():
-        outcome.output = f"the program {describe_exit(code)}, no image:\n{output.strip()}"
+    # Read once, safely (no link followed), after every process of the run is gone.
+    png, problem = submitted_file(out) if code == 0 else (None, "")
+    if png is None:
+        why = describe_exit(code, output) if code != 0 else f"exited 0 but {problem}"
+        outcome.output = f"the program {why}, no image:\n{output.strip()}"
         return outcome
     reference_path = reference_image(root, build, chapter, test)
-    image, reference = read_png(out), read_png(reference_path)
+    try:
+        image = read_png(png)
+    except Exception as error:  # noqa: BLE001 - whatever the file is, it is not an image
+        outcome.output = f"the program's {out.name} is not a readable PNG: {error}"
+        return outcome
+    reference = read_png(reference_path)
     if image.shape != reference.shape:
         outcome.output = f"image is {image.shape[1]}x{image.shape[0]}, expected " \
                          f"{reference.shape[1]}x{reference.shape[0]}"
@@ -303,7 +586,7 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
     outcome.score = round(test.max_score * image_score(fraction, mean_error), 2)
     outcome.output = (f"{fraction:.2%} of pixels within 2/255 of the reference "
                       f"(full marks from 99.5%), mean error {mean_error:.2f}/255")
-    shutil.copyfile(out, report_dir / f"{test.slug}_submission.png")
+    (report_dir / f"{test.slug}_submission.png").write_bytes(png)
     shutil.copyfile(reference_path, report_dir / f"{test.slug}_reference.png")
     write_heatmap(image, reference, report_dir / f"{test.slug}_error.png")
     outcome.images = {kind: f"{test.slug}_{kind}.png"
@@ -311,17 +594,39 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
     return outcome
 
 
+def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
+    """What a submission must not be able to read: a sample of the instructor's tree
+    (the solution, the specs, the tests), the build (its programs and flags), the
+    references and the object cache."""
+    grading = build / "grading"
+    paths = [root / "CMakeLists.txt", root / "tools" / "grading_specs.py",
+             root / "chapters" / chapter / "main.cpp", root / "shaders" / chapter,
+             root / "tests" / "python" / "test_grading.py", build / "compile_commands.json",
+             build / "bin" / chapter, grading / chapter, grading / "objects"]
+    paths += sorted((grading / chapter).glob("*.p[nf]m"))[:1]  # a PNG or PFM reference
+    return paths
+
+
 def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
-          show_hidden: bool = False) -> dict:
+          show_hidden: bool = False, hide=()) -> dict:
+    """Grades one submission into out (results.json, report.md, images). hide: more
+    folders the submission must not see (a class's other submissions and results)."""
     tests = SPECS[chapter[:2]]
     out.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="course-grade-") as scratch:
-        scratch = Path(scratch)
-        notes = copy_submission(submission, chapter, scratch / "submission")
-        workdir = scratch / "run"
-        workdir.mkdir()
-        program, build_log = compile_submission(root, build, chapter,
-                                                scratch / "submission", workdir)
+    prepare_references(root, build, chapter)  # as this user, before any student code
+    with sandbox.Sandbox(hide=[root, build, submission, out, *hide],
+                         close=[root, build]) as box:
+        source = box.folder("submission", writable=False)
+        notes = copy_submission(submission, chapter, source)
+        box.seal(source)
+        workdir = box.folder("run", writable=True)
+        problems = box.check_access(
+            sensitive_paths(root, build, chapter) + [submission],
+            [root, build, build / "grading", out, box.base, source])
+        if problems and box.root:
+            raise sandbox.SandboxError("refusing to grade: the submission's user could "
+                                       "reach what it must not:\n  " + "\n  ".join(problems))
+        program, build_log = compile_submission(root, build, chapter, source, workdir)
         outcomes = []
         for test in tests:
             if program is None:
@@ -329,9 +634,11 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
                                         build_log[-OUTPUT_LIMIT:]))
                 continue
             # The submission's shaders, not the solution's (but not for the reference):
-            shader_args = ["--shader-dir", str(scratch / "submission" / "shaders" / chapter)]
+            shader_args = ["--shader-dir", str(source / "shaders" / chapter)]
             outcomes.append(grade_test(root, build, chapter, program, test, workdir, out,
                                        shader_args))
+        protections = box.protections() + [f"NOT kept from the submission: {p}"
+                                           for p in problems]
     results = {
         "score": round(sum(o.score for o in outcomes), 2),
         "output": f"chapter {chapter}" + (f"\n{notes}" if notes else ""),
@@ -339,12 +646,85 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
                    "output": o.output, "visibility": o.test.visibility} for o in outcomes],
     }
     (out / "results.json").write_text(json.dumps(results, indent=2))
-    write_report(out, chapter, outcomes, results, notes, show_hidden)
+    write_report(out, chapter, outcomes, results, notes, show_hidden, protections)
     return results
 
 
+def failed_results(chapter: str, reason: str) -> dict:
+    """Zero on every test, with the reason: what a class gets for a submission the
+    grader could not grade at all."""
+    return {"score": 0.0, "output": f"chapter {chapter}\n{reason}",
+            "tests": [{"name": t.name, "score": 0.0, "max_score": t.max_score,
+                       "output": reason, "visibility": t.visibility}
+                      for t in SPECS[chapter[:2]]]}
+
+
+def summary_notes(results: dict) -> str:
+    """Why points were lost, in one line: the first line of each such test's output."""
+    reasons = []
+    for test in results["tests"]:
+        if test["score"] >= test["max_score"]:
+            continue
+        lines = [line.strip() for line in test["output"].splitlines() if line.strip()]
+        reason = lines[0] if lines else "no output"
+        if reason.endswith(":") and len(lines) > 1:
+            reason += " " + lines[1]
+        if reason.startswith("the submission does not build"):
+            reasons = [reason]  # the same for every test
+            break
+        reasons.append(f"{test['name']}: {reason}")
+    text = "; ".join(reasons)
+    return text if len(text) <= 300 else text[:297] + "..."
+
+
+def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: Path,
+                jobs: int | None = None, show_hidden: bool = False, progress=print) -> Path:
+    """./course grade NN --submissions DIR: every folder in DIR is one student's
+    submission, graded as many at once as there are cores (each in a sandbox of its
+    own, with a user of its own). Writes OUT/<student>/results.json and report.md, and
+    OUT/summary.csv (student, score, max, one column per test, notes). A submission
+    that does not build, crashes, or cannot be graded at all gets 0 with the reason,
+    and the others go on."""
+    folders = sorted(p for p in submissions.iterdir()
+                     if p.is_dir() and not p.is_symlink() and not p.name.startswith("."))
+    out.mkdir(parents=True, exist_ok=True)
+    prepare_references(root, build, chapter)  # once, before the workers start
+    tests = SPECS[chapter[:2]]
+
+    def one(folder: Path) -> tuple[str, dict]:
+        target = out / folder.name
+        started = time.monotonic()
+        try:
+            results = grade(root, build, chapter, folder, target, show_hidden,
+                            hide=[submissions, out])
+        except Exception as error:  # noqa: BLE001 - one student's problem, not the class's
+            results = failed_results(chapter, f"the grader could not grade this "
+                                              f"submission: {error}")
+            target.mkdir(parents=True, exist_ok=True)
+            (target / "results.json").write_text(json.dumps(results, indent=2))
+            (target / "report.md").write_text(f"# Grading report: chapter {chapter}\n\n"
+                                              f"**Score: 0**\n\n{results['output']}\n")
+        progress(f"{folder.name}: {results['score']} / "
+                 f"{sum(t.max_score for t in tests)} "
+                 f"({time.monotonic() - started:.1f} s)")
+        return folder.name, results
+
+    with ThreadPoolExecutor(max_workers=max(1, jobs or os.cpu_count() or 1)) as pool:
+        graded = list(pool.map(one, folders))
+    summary = out / "summary.csv"
+    with open(summary, "w", newline="") as sink:
+        writer = csv.writer(sink)
+        writer.writerow(["student", "score", "max_score", *(t.name for t in tests), "notes"])
+        for name, results in graded:
+            by_name = {t["name"]: t["score"] for t in results["tests"]}
+            writer.writerow([name, results["score"], sum(t.max_score for t in tests),
+                             *(by_name.get(t.name, 0.0) for t in tests),
+                             summary_notes(results)])
+    return summary
+
+
 def write_report(out: Path, chapter: str, outcomes: list[Outcome], results: dict,
-                 notes: str, show_hidden: bool):
+                 notes: str, show_hidden: bool, protections: list[str] = ()):
     total = sum(o.test.max_score for o in outcomes)
     lines = [f"# Grading report: chapter {chapter}", "",
              f"**Score: {results['score']} / {total}**", ""]
@@ -361,6 +741,9 @@ def write_report(out: Path, chapter: str, outcomes: list[Outcome], results: dict
             lines += ["", "| submission | reference | error (brighter = worse) |",
                       "|---|---|---|",
                       "| " + " | ".join(f"![{k}]({v})" for k, v in o.images.items()) + " |"]
+    if protections:
+        lines += ["", "## How the submission was run", "",
+                  *[f"- {line}" for line in protections]]
     (out / "report.md").write_text("\n".join(lines) + "\n")
 
 

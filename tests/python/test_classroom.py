@@ -113,6 +113,10 @@ def test_autograder_zip_has_gradescope_entry_points(tmp_path):
         for entry in ("setup.sh", "run_autograder", "course/course"):
             mode = archive.getinfo(entry).external_attr >> 16
             assert mode & stat.S_IXUSR, f"{entry} must be executable"
+        setup = archive.read("setup.sh").decode()
+        # The references are rendered, then every chapter's solution leaves the image.
+        prepare = setup.index("./course grade 02 --prepare")
+        assert prepare < setup.index("rm -rf chapters shaders build/bin")
         run = archive.read("run_autograder").decode()
         assert "./course grade 02 --submission /autograder/submission" in run
         assert "--out /autograder/results" in run

@@ -2,6 +2,7 @@
 bug loses exactly the tests it should, and broken submissions (not compiling, crashing,
 hanging, flooding the output) fail cleanly while the grader stays healthy."""
 
+import csv
 import json
 import os
 import shutil
@@ -128,3 +129,31 @@ def test_missing_folders_are_reported(tmp_path):
     results, tests = grade("02", tmp_path / "empty", tmp_path / "g")
     assert results["score"] == 0
     assert "no chapters/02_first_pixels/" in results["output"]
+
+
+def test_a_whole_class_at_once(tmp_path):
+    """--submissions grades every folder (here the solution, the starter and one that
+    does not compile) into its own results, and sums them up in one CSV."""
+    submissions = tmp_path / "class"
+    solution_copy("04_spheres", submissions / "alice")
+    classroom.release(ROOT, "04_spheres", submissions / "bob")
+    break_main(solution_copy("04_spheres", submissions / "carol"), "04_spheres",
+               "this is not C++;")
+    out = tmp_path / "graded"
+    result = subprocess.run([*COURSE, "grade", "04", "--submissions", str(submissions),
+                             "--out", str(out)], capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert result.stdout.strip() == str(out / "summary.csv")
+    with open(out / "summary.csv", newline="") as source:
+        rows = {row["student"]: row for row in csv.DictReader(source)}
+    assert set(rows) == {"alice", "bob", "carol"}
+    assert float(rows["alice"]["score"]) == float(rows["alice"]["max_score"]) == 10
+    assert float(rows["alice"]["overlapping spheres, close up"]) == 2
+    assert float(rows["bob"]["score"]) <= 1
+    assert float(rows["carol"]["score"]) == 0
+    assert "does not build" in rows["carol"]["notes"]
+    assert "compiling main.cpp failed" in rows["carol"]["notes"]
+    for student in rows:
+        results = json.loads((out / student / "results.json").read_text())
+        assert results["score"] == float(rows[student]["score"])
+        assert (out / student / "report.md").exists()
