@@ -144,7 +144,16 @@ if [ -n "$GRADESCOPE" ]; then
   done
   mkdir -p "$ROOTFS/autograder/source" "$ROOTFS/autograder/submission" \
     "$ROOTFS/autograder/results"
-  chroot "$ROOTFS" python3 -m zipfile -e /tmp/autograder.zip /autograder/source
+  # Unpacked as Gradescope's unzip does: with each file's mode from the archive.
+  chroot "$ROOTFS" python3 -c '
+import os, sys, zipfile
+with zipfile.ZipFile(sys.argv[1]) as archive:
+    for info in archive.infolist():
+        path = archive.extract(info, sys.argv[2])
+        mode = info.external_attr >> 16 & 0o777
+        if mode:
+            os.chmod(path, mode)
+' /tmp/autograder.zip /autograder/source
   cp "$ROOTFS/autograder/source/run_autograder" "$ROOTFS/autograder/run_autograder"
   summary=()
   status=0

@@ -107,7 +107,8 @@ def break_main(submission, chapter, code):
 @pytest.mark.parametrize("kind,code,message", [
     ("not compiling", "this is not C++;", "does not build"),
     ("crashing", "std::abort();", "crashed with signal SIGABRT"),
-    ("hanging", "for (volatile int spin = 0;; ) {}", "s of CPU time (killed)"),
+    # Killed by its CPU limit, or by the wall clock first on a busy machine.
+    ("hanging", "for (volatile int spin = 0;; ) {}", "(killed)"),
     ("sleeping", "for (;;) sleep(1);", "did not finish within 5 s (killed)"),
     ("flooding", "for (int i = 0; i < 2000000; ++i) std::puts(\"spam spam spam\");",
      "output cut"),
