@@ -232,17 +232,17 @@ class Staging:
 
 # ---------------------------------------------------------------- building
 
-def object_key(arguments: list[str], source: Path, source_dir: Path, chapter: str,
-               places: list[tuple[str, str]]) -> str:
-    """What the compiler is told, hashed: its arguments (with the submission's folder
-    and the staging copy as placeholders, the output left out), the source, and the
-    names of every file in the submission's chapter and shader folders (a file that is
-    only tested for, with __has_include, changes nothing else). What it then reads is
-    the second half of the key (dependency_digest): objects kept by object_key alone
-    would let a submission that shadows a header poison the next one's object."""
+def object_key(arguments: list[str], source: Path, source_dir: Path, chapter: str) -> str:
+    """What the compiler is told, hashed: its arguments as they are (the output left
+    out; paths in -D macros end up in the object, so they must be the same: a grading's
+    folders are the same for each grading in a sandbox slot), the source, and the names
+    of every file in the submission's chapter and shader folders (a file that is only
+    tested for, with __has_include, changes nothing else). What it then reads is the
+    second half of the key (dependency_digest): objects kept by object_key alone would
+    let a submission that shadows a header poison the next one's object."""
     digest = hashlib.sha256()
-    for argument in [*arguments, placeholder(str(source), places)]:
-        digest.update(placeholder(argument, places).encode() + b"\0")
+    for argument in [*arguments, str(source)]:
+        digest.update(argument.encode() + b"\0")
     digest.update(source.read_bytes() + b"\0")
     for top in ("chapters", "shaders"):
         folder = source_dir / top / chapter
@@ -331,6 +331,8 @@ def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
                         if c["file"].startswith(str(root / "chapters" / chapter) + "/")]
     objects, log = [], ""
     cache = private_folder(build / "grading" / "objects")
+    for old in cache.glob("*.o"):  # kept by an older grader, by object_key alone
+        old.unlink(missing_ok=True)
     sources = sorted((source_dir / "chapters" / chapter).glob("*.cpp"))
     if not sources:
         return None, f"no .cpp files in chapters/{chapter}/ of the submission"
@@ -365,7 +367,7 @@ def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
         arguments[arguments.index("-c") + 1] = str(source)
         output_index = arguments.index("-o") + 1
         key = object_key(arguments[:output_index - 1] + arguments[output_index + 1:],
-                         source, source_dir, chapter, places)
+                         source, source_dir, chapter)
         arguments[output_index] = str(target)
         cached = cached_object(cache / key, places)
         if cached is not None:
@@ -608,14 +610,15 @@ def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
 
 
 def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
-          show_hidden: bool = False, hide=()) -> dict:
-    """Grades one submission into out (results.json, report.md, images). hide: more
-    folders the submission must not see (a class's other submissions and results)."""
+          show_hidden: bool = False, hide=(), close=()) -> dict:
+    """Grades one submission into out (results.json, report.md, images). hide, close:
+    more folders the submission must not see (a class's other submissions and
+    results), covered in its mount namespace and closed to other users."""
     tests = SPECS[chapter[:2]]
     out.mkdir(parents=True, exist_ok=True)
     prepare_references(root, build, chapter)  # as this user, before any student code
     with sandbox.Sandbox(hide=[root, build, submission, out, *hide],
-                         close=[root, build]) as box:
+                         close=[root, build, *close]) as box:
         source = box.folder("submission", writable=False)
         notes = copy_submission(submission, chapter, source)
         box.seal(source)
@@ -696,7 +699,7 @@ def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: P
         started = time.monotonic()
         try:
             results = grade(root, build, chapter, folder, target, show_hidden,
-                            hide=[submissions, out])
+                            hide=[submissions, out], close=[submissions, out])
         except Exception as error:  # noqa: BLE001 - one student's problem, not the class's
             results = failed_results(chapter, f"the grader could not grade this "
                                               f"submission: {error}")

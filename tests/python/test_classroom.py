@@ -1,6 +1,7 @@
 """Classroom: solution markers are well formed everywhere, and a starter release builds,
 runs, and draws a wrong picture instead of crashing."""
 
+import shutil
 import subprocess
 import sys
 
@@ -11,6 +12,7 @@ from conftest import ROOT, assert_images_agree, read_image
 sys.path.insert(0, str(ROOT / "tools"))
 import classroom  # noqa: E402
 import grader  # noqa: E402
+import sandbox  # noqa: E402
 
 BUILD = ROOT / "build"
 
@@ -43,13 +45,22 @@ def released_chapters():
 
 
 def compile_starter(starter, chapter):
-    """Compiles the starter's host code as the grader compiles a submission: with the
-    flags CMake used for the solution, linked with the instructor's common layer."""
-    workdir = starter / "build-starter"
-    workdir.mkdir()
-    program, log = grader.compile_submission(ROOT, BUILD, chapter, starter, workdir)
-    assert program is not None, log
-    return program
+    """Compiles the starter's host code as the grader compiles a submission: in its
+    sandbox, with the flags CMake used for the solution, linked with the instructor's
+    common layer (so it shares compiled objects with the grading tests). The program's
+    own shader folder is the sandbox's, gone afterwards: run it with --shader-dir."""
+    with sandbox.Sandbox(hide=[], close=[]) as box:
+        source = box.folder("submission", writable=False)
+        grader.copy_submission(starter, chapter, source)
+        box.seal(source)
+        workdir = box.folder("run", writable=True)
+        program, log = grader.compile_submission(ROOT, BUILD, chapter, source, workdir)
+        assert program is not None, log
+        kept = starter / "build-starter" / chapter
+        kept.parent.mkdir()
+        shutil.copyfile(program, kept)
+        kept.chmod(0o755)
+    return kept
 
 
 @pytest.mark.parametrize("chapter", released_chapters())
@@ -65,14 +76,16 @@ def test_starter_builds_runs_and_is_wrong(tmp_path, chapter):
     assert (starter / "README.md").exists()
 
     program = compile_starter(starter, chapter)
+    shaders = ["--shader-dir", str(starter / "shaders" / chapter)]
     if chapter.startswith("01"):
-        result = subprocess.run([str(program), "--count", "100"], capture_output=True,
-                                text=True, timeout=120)
+        result = subprocess.run([str(program), "--count", "100", *shaders],
+                                capture_output=True, text=True, timeout=120)
         assert result.returncode == 1 and "sums are wrong" in result.stderr  # no crash
         return
     out = tmp_path / "starter.png"
     result = subprocess.run([str(program), "--headless", "--width", "64", "--height", "48",
-                             "--out", str(out)], capture_output=True, text=True, timeout=300)
+                             *shaders, "--out", str(out)], capture_output=True, text=True,
+                            timeout=300)
     assert result.returncode == 0, result.stderr
     solution = tmp_path / "solution.png"
     subprocess.run([str(BUILD / "bin" / chapter), "--headless", "--width", "64", "--height",
