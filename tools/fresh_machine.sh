@@ -87,6 +87,10 @@ else
   tar -C "$ROOTFS" -xf "$BASE_TAR"
 fi
 
+# mktemp made the folder 0700 (and the tarball keeps that mode for "."): a machine's /
+# lets every user through, and the grader's unprivileged user needs that.
+chmod 0755 "$ROOTFS"
+
 # 2. What makes the network work as here: DNS, the CA bundle, apt's and pip's settings.
 cp /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
 if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
