@@ -4,7 +4,9 @@ and the report must say why. The attacks know the instructor's paths (a student 
 guess /autograder/source/course), and most give up loudly when the attack fails, so
 the report shows what the sandbox refused. See tools/sandbox.py for the protections."""
 
+import argparse
 import hashlib
+import json
 import os
 import re
 import shutil
@@ -374,3 +376,13 @@ def test_grading_needs_none_of_the_solutions_sources(solution, tmp_path, monkeyp
     results = grader.grade(fake, build, CHAPTER, solution, tmp_path / "graded")
     assert results["score"] == sum(t.max_score for t in ALL_TESTS), results
     assert not (fake / "chapters").exists() and not (build / "bin").exists()
+    # ./course grade there skips the build (which would fail) and grades the same.
+    import course
+    monkeypatch.setattr(course, "ROOT", fake)
+    monkeypatch.setattr(course, "BUILD", build)
+    shutil.copy2(ROOT / "CMakeLists.txt", fake)
+    course.cmd_grade(argparse.Namespace(
+        chapter="04", submission=str(solution), submissions=None, prepare=False,
+        out=str(tmp_path / "graded-by-course"), jobs=None, show_hidden=False))
+    again = json.loads((tmp_path / "graded-by-course" / "results.json").read_text())
+    assert again["score"] == results["score"]
