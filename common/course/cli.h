@@ -1,5 +1,6 @@
-// The command line every chapter program shares (COURSE.md), plus the few options a
-// chapter declares for itself. Bad usage throws Failure(BadUsage) with a message.
+// The command line every chapter program shares (book/docs/maintainers.md), plus the
+// few options a chapter declares for itself. Bad usage throws Failure(BadUsage) with a
+// message.
 #pragma once
 #include <cstdint>
 #include <functional>

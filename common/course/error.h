@@ -1,4 +1,5 @@
-// Errors that end a chapter program, each with the exit code of COURSE.md.
+// Errors that end a chapter program, each with its exit code (the table is in the book's
+// maintainers page, book/docs/maintainers.md).
 #pragma once
 #include <stdexcept>
 #include <string>

@@ -1,1 +1,2 @@
-"""Independent numpy references for the chapter images (COURSE.md, 'Checks')."""
+"""Independent numpy references for the chapter images (the book's maintainers page,
+'How a picture is checked')."""

@@ -127,8 +127,9 @@ def srgb_encode_8bit(linear: np.ndarray) -> np.ndarray:
 
 def assert_images_agree(image: np.ndarray, reference: np.ndarray, *, within: float = 2.0,
                         fraction: float = 0.995, mean_below: float = 0.5, label: str = ""):
-    """The course's image check for 8-bit images (COURSE.md): at least 99.5% of pixel
-    channels within 2/255 of the reference and a mean absolute error below 0.5/255."""
+    """The course's image check for 8-bit images (book/docs/maintainers.md): at least
+    99.5% of pixel channels within 2/255 of the reference and a mean absolute error
+    below 0.5/255."""
     assert image.shape == reference.shape, f"{label}: shape {image.shape} != {reference.shape}"
     error = np.abs(image - reference)
     close = float(np.mean(np.all(error <= within, axis=-1)))

@@ -1,6 +1,7 @@
-"""Chapter 10: path tracing, checked with statistics (COURSE.md): white furnaces, direct
-light with a closed form, three estimators agreeing, error falling like 1/sqrt(spp),
-reproducible bytes, Mitsuba 3 region by region, window mode and bad scene files.
+"""Chapter 10: path tracing, checked with statistics (book/docs/maintainers.md): white
+furnaces, direct light with a closed form, three estimators agreeing, error falling like
+1/sqrt(spp), reproducible bytes, Mitsuba 3 region by region, window mode and bad scene
+files.
 
 Every expected value is compared with the statistical error of the estimate: the
 standard error of a mean of N independent pixels is the spread of the pixels over

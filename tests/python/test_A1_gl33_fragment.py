@@ -4,7 +4,8 @@ It runs on contexts that really are 3.3 (Mesa with its version forced down, on E
 on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
 chapter 10's: on llvmpipe the same seed gives the same bits (the random streams, the
 arithmetic and the order of the samples are the same), and with another seed the
-regions of the Cornell box agree within their statistical error (COURSE.md)."""
+regions of the Cornell box agree within their statistical error
+(book/docs/maintainers.md)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""The rules of the repository's layout (STYLE.md): every chapter folder is built and
-tested, chapters contain no GL plumbing, and checkpoints come in pairs."""
+"""The rules of the repository's layout (book/docs/maintainers.md): every chapter folder is
+built and tested, chapters contain no GL plumbing, and checkpoints come in pairs."""
 
 import re
 
@@ -39,3 +39,22 @@ def test_chapter_mains_read_as_lessons():
             f"{path}: start with what the chapter teaches"
         assert len(lines) <= 200, f"{path}: {len(lines)} lines; move helpers to their own file"
         assert max(map(len, lines)) <= 96, f"{path}: keep lines within 96 columns"
+
+
+def test_nothing_cites_a_file_outside_the_repository():
+    """The project explains itself: its design is book/docs/maintainers.md, and no code,
+    test or page sends a reader to documents that are not in the repository."""
+    outside = re.compile(r"COURSE\.md|STYLE\.md|\.\./shared\b")
+    suffixes = {".py", ".cpp", ".h", ".glsl", ".comp", ".frag", ".vert", ".cmake", ".txt",
+                ".md", ".sh", ".yml", ".ini", ".scene"}
+    offenders = []
+    for path in ROOT.rglob("*"):
+        parts = path.relative_to(ROOT).parts
+        if parts[0] in (".git", ".venv", "build") or "site" in parts[:2] or \
+                not path.is_file():
+            continue
+        if path.suffix in suffixes or path.name in ("course", "run"):
+            for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+                if outside.search(line):
+                    offenders.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert offenders == [], "\n".join(offenders)
