@@ -49,10 +49,14 @@ INCLUDES = """#include <arpa/inet.h>
 #include <vector>
 static bool copyFile(const std::string& from, const std::string& to) {
     FILE* in = std::fopen(from.c_str(), "rb");
-    if (!in) { std::fprintf(stderr, "cannot read %s: %s\\n", from.c_str(), std::strerror(errno)); return false; }
+    if (!in) {
+        std::fprintf(stderr, "cannot read %s: %s\\n", from.c_str(), std::strerror(errno));
+        return false;
+    }
     FILE* out = std::fopen(to.c_str(), "wb");
     char buffer[4096];
-    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, in)) > 0;) std::fwrite(buffer, 1, n, out);
+    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, in)) > 0;)
+        std::fwrite(buffer, 1, n, out);
     std::fclose(in); std::fclose(out);
     return true;
 }
@@ -205,7 +209,10 @@ def test_overwriting_the_references_and_results_json(starter, tmp_path):
     bool any = false;
     for (const char* path : {{{c_string(reference)}, {c_string(results_json)}}}) {{
         FILE* file = std::fopen(path, "wb");
-        if (!file) {{ std::fprintf(stderr, "cannot write %s: %s\\n", path, std::strerror(errno)); continue; }}
+        if (!file) {{
+            std::fprintf(stderr, "cannot write %s: %s\\n", path, std::strerror(errno));
+            continue;
+        }}
         std::fputs("{{\\"score\\": 100}}", file); std::fclose(file); any = true;
     }}
     if (!any) return 1;"""
@@ -306,7 +313,10 @@ def test_writing_outside_its_folder(starter, tmp_path):
     int written = 0;
     for (const char* path : {{{", ".join(c_string(t) for t in targets)}}}) {{
         FILE* file = std::fopen(path, "w");
-        if (!file) {{ std::fprintf(stderr, "cannot write %s: %s\\n", path, std::strerror(errno)); continue; }}
+        if (!file) {{
+            std::fprintf(stderr, "cannot write %s: %s\\n", path, std::strerror(errno));
+            continue;
+        }}
         std::fputs("pwned", file); std::fclose(file); ++written;
         std::fprintf(stderr, "wrote %s\\n", path);
     }}
