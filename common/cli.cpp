@@ -1,8 +1,12 @@
 #include "course/cli.h"
 
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
+
+#include <glm/glm.hpp>
 
 #include "course/error.h"
 
@@ -29,6 +33,40 @@ int parseBounded(const std::string& name, const std::string& text, long long lo,
         badUsage(name + " must be between " + std::to_string(lo) + " and " +
                  std::to_string(hi) + ", got " + text);
     return static_cast<int>(value);
+}
+
+float parseFinite(const std::string& name, const std::string& text) {
+    char* end = nullptr;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value))
+        badUsage(name + " expects a finite number, got '" + text + "'");
+    return value;
+}
+
+// "x,y,z": exactly three finite numbers.
+glm::vec3 parseVector(const std::string& name, const std::string& text) {
+    std::vector<std::string> parts(1);
+    for (char c : text) {
+        if (c == ',')
+            parts.emplace_back();
+        else
+            parts.back().push_back(c);
+    }
+    if (parts.size() != 3)
+        badUsage(name + " expects three numbers x,y,z, got '" + text + "'");
+    return {parseFinite(name, parts[0]), parseFinite(name, parts[1]),
+            parseFinite(name, parts[2])};
+}
+
+// A default as --help shows it: "0.035", "0,-0.25,-1".
+std::string shown(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(value));
+    return text;
+}
+
+std::string shown(const glm::vec3& v) {
+    return shown(v.x) + "," + shown(v.y) + "," + shown(v.z);
 }
 
 Backend parseBackend(const std::string& text) {
@@ -62,6 +100,18 @@ void CommandLine::option(const std::string& name, const std::string& valueName,
                          const std::string& help, std::string* target) {
     extra_.push_back(
         {name, help, valueName, [target](const std::string& value) { *target = value; }});
+}
+
+void CommandLine::option(const std::string& name, const std::string& valueName,
+                         const std::string& help, float* target) {
+    extra_.push_back({name, help + " (default " + shown(*target) + ")", valueName,
+                      [=](const std::string& value) { *target = parseFinite(name, value); }});
+}
+
+void CommandLine::option(const std::string& name, const std::string& valueName,
+                         const std::string& help, glm::vec3* target) {
+    extra_.push_back({name, help + " (default " + shown(*target) + ")", valueName,
+                      [=](const std::string& value) { *target = parseVector(name, value); }});
 }
 
 void CommandLine::choice(const std::string& name, const std::string& help,

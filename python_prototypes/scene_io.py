@@ -1,6 +1,6 @@
 """A small, strict reader for the course's scene files (assets/scenes/*.scene), the
-Python twin of chapters/10_path_tracing/scene_file.cpp. The format is described there
-and in assets/scenes/README.md:
+Python twin of common/scene_file.cpp. The format is described in
+common/course/scene_file.h and in assets/scenes/README.md:
 
     camera eye X Y Z look X Y Z up X Y Z focal F sensor S
     material NAME albedo R G B [emission R G B]

@@ -1,8 +1,6 @@
 // The pinhole camera on the host side: its options on the command line, and the basis
 // the shader needs, computed once per image instead of once per pixel.
 #pragma once
-#include <string>
-
 #include <glm/glm.hpp>
 
 #include "course/cli.h"
@@ -22,17 +20,17 @@ struct Camera {
 Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
                   float sensorWidth);
 
-// --camera-eye, --camera-look, --camera-up, --focal-length, --sensor-width, as text
-// until the command line has been read.
+// --camera-eye, --camera-look, --camera-up, --focal-length, --sensor-width, read into
+// these by the command line (which refuses anything but finite numbers).
 struct CameraOptions {
-    std::string eye = "0,1,4";
-    std::string look = "0,-0.25,-1";
-    std::string up = "0,1,0";
-    std::string focalLength = "0.035";  // a 35 mm lens ...
-    std::string sensorWidth = "0.036";  // ... on a 36 mm wide "full frame" sensor
+    glm::vec3 eye{0.0f, 1.0f, 4.0f};
+    glm::vec3 look{0.0f, -0.25f, -1.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float focalLength = 0.035f;  // a 35 mm lens ...
+    float sensorWidth = 0.036f;  // ... on a 36 mm wide "full frame" sensor
 
     void declare(course::CommandLine& cli);
-    Camera camera() const;  // parses and checks; exit code 2 with a message if wrong
+    Camera camera() const;  // builds and checks the basis; exit code 2 if it cannot
 };
 
 // Sets the `camera` uniform struct of camera.glsl.

@@ -1,37 +1,11 @@
 #include "camera.h"
 
-#include <cmath>
-#include <cstdlib>
-#include <vector>
-
 #include "course/error.h"
 
 namespace {
 
 [[noreturn]] void badCamera(const std::string& message) {
     course::fail(course::ExitCode::BadUsage, message + " (see --help)");
-}
-
-float parseNumber(const std::string& option, const std::string& text) {
-    char* end = nullptr;
-    float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(value))
-        badCamera(option + " expects a finite number, got '" + text + "'");
-    return value;
-}
-
-glm::vec3 parseVector(const std::string& option, const std::string& text) {
-    std::vector<std::string> parts(1);
-    for (char c : text) {
-        if (c == ',')
-            parts.emplace_back();
-        else
-            parts.back().push_back(c);
-    }
-    if (parts.size() != 3)
-        badCamera(option + " expects three numbers x,y,z, got '" + text + "'");
-    return {parseNumber(option, parts[0]), parseNumber(option, parts[1]),
-            parseNumber(option, parts[2])};
 }
 
 }  // namespace
@@ -57,18 +31,16 @@ Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength
 // --8<-- [end:basis]
 
 void CameraOptions::declare(course::CommandLine& cli) {
-    cli.option("--camera-eye", "X,Y,Z", "camera position (default " + eye + ")", &eye);
-    cli.option("--camera-look", "X,Y,Z", "viewing direction (default " + look + ")", &look);
-    cli.option("--camera-up", "X,Y,Z", "roughly upwards (default " + up + ")", &up);
-    cli.option("--focal-length", "M", "metres (default " + focalLength + ")", &focalLength);
-    cli.option("--sensor-width", "M", "metres (default " + sensorWidth + ")", &sensorWidth);
+    // Typed options: the command line reads the numbers and refuses what is not one.
+    cli.option("--camera-eye", "X,Y,Z", "camera position", &eye);
+    cli.option("--camera-look", "X,Y,Z", "viewing direction", &look);
+    cli.option("--camera-up", "X,Y,Z", "roughly upwards", &up);
+    cli.option("--focal-length", "M", "metres", &focalLength);
+    cli.option("--sensor-width", "M", "metres", &sensorWidth);
 }
 
 Camera CameraOptions::camera() const {
-    return makeCamera(parseVector("--camera-eye", eye), parseVector("--camera-look", look),
-                      parseVector("--camera-up", up),
-                      parseNumber("--focal-length", focalLength),
-                      parseNumber("--sensor-width", sensorWidth));
+    return makeCamera(eye, look, up, focalLength, sensorWidth);
 }
 
 void setCamera(const course::ShaderProgram& program, const Camera& camera) {

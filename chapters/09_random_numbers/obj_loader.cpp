@@ -3,22 +3,24 @@
 // second, and no line, however long or strange, can crash or hang it.
 #include "obj_loader.h"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
 #include <string_view>
 #include <system_error>
 #include <utility>
 
 #include "course/error.h"
+#include "course/text_file.h"  // reading the file whole, words, quoting in messages
 
 namespace {
 
 using course::ExitCode;
+using course::inQuotes;
+using course::isControlByte;
+using course::isDigit;
+using course::isLetter;
+using course::nextWord;
 
 // Indices are 32-bit; staying below 2^31 also keeps them valid as GLSL `int`s.
 constexpr size_t kMostElements = size_t(1) << 31;
@@ -29,17 +31,6 @@ constexpr std::uintmax_t kMostBytes = std::uintmax_t(4) << 30;
 // Characters and words
 // ---------------------------------------------------------------------------------------
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }  // \r: CR LF files
-
-// A text file has no control bytes except tab, CR and LF (LF never reaches a line).
-bool isControlByte(char c) {
-    const unsigned char byte = static_cast<unsigned char>(c);
-    return (byte < 0x20 && c != '\t' && c != '\r') || byte == 0x7f;
-}
-
-bool isLetter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-
 // Statement names are words such as v, usemtl, curv2 or trace_obj. A first word made of
 // anything else is not an OBJ statement: most likely the file is not an OBJ file.
 bool looksLikeKeyword(std::string_view word) {
@@ -49,70 +40,6 @@ bool looksLikeKeyword(std::string_view word) {
         if (!isLetter(c) && !isDigit(c) && c != '_')
             return false;
     return true;
-}
-
-// Cuts the next blank-separated word off the front of `rest`; "" at the end of the line.
-std::string_view nextWord(std::string_view& rest) {
-    size_t start = 0;
-    while (start < rest.size() && isBlank(rest[start]))
-        ++start;
-    size_t end = start;
-    while (end < rest.size() && !isBlank(rest[end]))
-        ++end;
-    const std::string_view word = rest.substr(start, end - start);
-    rest.remove_prefix(end);
-    return word;
-}
-
-// 'word' for a message, cut short so that one huge garbage line gives a short message.
-std::string quoted(std::string_view word) {
-    constexpr size_t kShown = 40;
-    if (word.size() <= kShown)
-        return "'" + std::string(word) + "'";
-    return "'" + std::string(word.substr(0, kShown)) + "...'";
-}
-
-// ---------------------------------------------------------------------------------------
-// The file
-// ---------------------------------------------------------------------------------------
-
-// Messages name the absolute path, so "cannot open" says exactly where we looked.
-std::string absolutePath(const std::string& path) {
-    std::error_code error;
-    const std::filesystem::path absolute = std::filesystem::absolute(path, error);
-    return error ? path : absolute.lexically_normal().string();
-}
-
-std::string readWholeFile(const std::string& path, const std::string& shownPath) {
-    namespace fs = std::filesystem;
-    std::error_code error;
-    const fs::file_status status = fs::status(path, error);
-    if (fs::is_directory(status))
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
-    // A pipe or a device such as /dev/zero could block or never end.
-    if (fs::exists(status) && !fs::is_regular_file(status))
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
-    const std::uintmax_t size = fs::file_size(path, error);
-    if (!error && size > kMostBytes)
-        course::fail(ExitCode::BadInput,
-                     shownPath + ": too large: " + std::to_string(size) + " bytes, over 4 GiB");
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file)
-        course::fail(ExitCode::BadInput,
-                     shownPath + ": cannot open (" + std::strerror(errno) + ")");
-
-    std::string text;
-    if (!error)
-        text.reserve(size);  // one allocation; the loop below still reads to the end
-    char chunk[1 << 16];
-    size_t count = 0;
-    while ((count = std::fread(chunk, 1, sizeof chunk, file)) > 0)
-        text.append(chunk, count);
-    const bool failed = std::ferror(file) != 0;
-    std::fclose(file);
-    if (failed)
-        course::fail(ExitCode::BadInput, shownPath + ": cannot read the file");
-    return text;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -151,7 +78,7 @@ public:
         else if (keyword == "f")
             readFace(line);
         else if (!looksLikeKeyword(keyword))
-            fail(quoted(keyword) + " is not an OBJ statement");
+            fail(inQuotes(keyword) + " is not an OBJ statement");
         // Anything else (g, o, s, usemtl, mtllib, l, vp, ...) does not change the triangles.
     }
     // --8<-- [end:line]
@@ -220,14 +147,14 @@ private:
         const char* end = digits.data() + digits.size();
         const auto [stop, error] = std::from_chars(digits.data(), end, value);
         if (error == std::errc::result_out_of_range)
-            fail(quoted(word) + " is out of range for a number");
+            fail(inQuotes(word) + " is out of range for a number");
         if (error != std::errc() || stop != end)
-            fail(quoted(word) + " is not a number");
+            fail(inQuotes(word) + " is not a number");
         // from_chars accepts "nan" and "inf": valid numbers, but no place in a mesh.
         if (!std::isfinite(value))
-            fail(quoted(word) + " is not a finite number");
+            fail(inQuotes(word) + " is not a finite number");
         if (std::fabs(value) > std::numeric_limits<float>::max())
-            fail(quoted(word) + " is too large for a float");
+            fail(inQuotes(word) + " is too large for a float");
         return float(value);
     }
     // --8<-- [end:number]
@@ -241,9 +168,9 @@ private:
         const char* end = word.data() + word.size();
         const auto [stop, error] = std::from_chars(word.data(), end, index);
         if (error == std::errc::result_out_of_range)
-            fail(kind + " index " + quoted(word) + " is out of range");
+            fail(kind + " index " + inQuotes(word) + " is out of range");
         if (error != std::errc() || stop != end)
-            fail("bad face vertex: " + kind + " index " + quoted(word) +
+            fail("bad face vertex: " + kind + " index " + inQuotes(word) +
                  " is not a whole number");
         if (index == 0)
             fail(kind + " index 0 is invalid: OBJ indices start at 1");
@@ -261,7 +188,7 @@ private:
         size_t partCount = 0;
         for (std::string_view rest = word;;) {
             if (partCount == 3)
-                fail("bad face vertex " + quoted(word) + ": at most 3 parts, v/vt/vn");
+                fail("bad face vertex " + inQuotes(word) + ": at most 3 parts, v/vt/vn");
             const size_t slash = rest.find('/');
             parts[partCount++] = rest.substr(0, slash);
             if (slash == std::string_view::npos)
@@ -269,7 +196,7 @@ private:
             rest.remove_prefix(slash + 1);
         }
         if (parts[0].empty())
-            fail("bad face vertex " + quoted(word) + ": no vertex index");
+            fail("bad face vertex " + inQuotes(word) + ": no vertex index");
 
         Corner corner;
         corner.position = resolveIndex(parts[0], mesh_.positions.size(), "vertex", "vertices");
@@ -277,7 +204,7 @@ private:
             resolveIndex(parts[1], texcoordCount_, "texture coordinate", "texture coordinates");
         if (partCount == 3) {
             if (parts[2].empty())
-                fail("bad face vertex " + quoted(word) + ": empty normal index");
+                fail("bad face vertex " + inQuotes(word) + ": empty normal index");
             corner.normal = resolveIndex(parts[2], mesh_.normals.size(), "normal", "normals");
             corner.hasNormal = true;
         }
@@ -322,8 +249,8 @@ private:
 
 // --8<-- [start:load]
 Mesh loadObj(const std::string& path) {
-    const std::string shownPath = absolutePath(path);
-    const std::string text = readWholeFile(path, shownPath);
+    const std::string shownPath = course::absolutePath(path);
+    const std::string text = course::readWholeFile(path, kMostBytes, "an OBJ file");
     ObjParser parser(shownPath);
     if (text.empty())
         parser.failAt(0, "empty file");

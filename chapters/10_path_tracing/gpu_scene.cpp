@@ -12,14 +12,14 @@ glm::uvec4 info(uint32_t material) { return {material, NO_EMITTER, 0u, 0u}; }
 
 // Every shape with a glowing material joins the emitter list; the shape remembers its
 // place there, so that a ray hitting it can ask how likely light sampling was to pick it.
-void addEmitter(GpuScene& gpu, const SceneFile& scene, glm::uvec4& shapeInfo, uint32_t kind,
+void addEmitter(GpuScene& gpu, const course::SceneFile& scene, glm::uvec4& shapeInfo, uint32_t kind,
                 size_t index, float area) {
     if (!scene.materials[shapeInfo.x].emits()) return;
     shapeInfo.y = static_cast<uint32_t>(gpu.emitters.size());
     gpu.emitters.push_back({kind, static_cast<uint32_t>(index), area, 0.0f});
 }
 
-void addTriangle(GpuScene& gpu, const SceneFile& scene, glm::vec3 a, glm::vec3 b,
+void addTriangle(GpuScene& gpu, const course::SceneFile& scene, glm::vec3 a, glm::vec3 b,
                  glm::vec3 c, uint32_t material) {
     gpu::Triangle triangle{glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0), info(material)};
     float area = 0.5f * glm::length(glm::cross(b - a, c - a));
@@ -29,14 +29,14 @@ void addTriangle(GpuScene& gpu, const SceneFile& scene, glm::vec3 a, glm::vec3 b
 
 }  // namespace
 
-GpuScene packScene(const SceneFile& scene) {
+GpuScene packScene(const course::SceneFile& scene) {
     GpuScene gpu;
-    for (const SceneMaterial& m : scene.materials)
+    for (const course::SceneMaterial& m : scene.materials)
         gpu.materials.push_back({glm::vec4(m.albedo, 0), glm::vec4(m.emission, 0)});
     glm::vec3 low(INFINITY), high(-INFINITY);
     auto grow = [&](glm::vec3 p) { low = glm::min(low, p); high = glm::max(high, p); };
 
-    for (const SceneSphere& s : scene.spheres) {
+    for (const course::SceneSphere& s : scene.spheres) {
         gpu::Sphere sphere{glm::vec4(s.center, s.radius), info(s.material)};
         float area = 4.0f * kPi * s.radius * s.radius;
         addEmitter(gpu, scene, sphere.info, SHAPE_SPHERE, gpu.spheres.size(), area);
@@ -44,7 +44,7 @@ GpuScene packScene(const SceneFile& scene) {
         grow(s.center - s.radius);
         grow(s.center + s.radius);
     }
-    for (const SceneQuad& q : scene.quads) {
+    for (const course::SceneQuad& q : scene.quads) {
         gpu::Quad quad{glm::vec4(q.origin, 0), glm::vec4(q.edge1, 0), glm::vec4(q.edge2, 0),
                        info(q.material)};
         float area = glm::length(glm::cross(q.edge1, q.edge2));
@@ -55,12 +55,12 @@ GpuScene packScene(const SceneFile& scene) {
         grow(q.origin + q.edge1);
         grow(q.origin + q.edge2);
     }
-    for (const SceneTriangle& t : scene.triangles) {
+    for (const course::SceneTriangle& t : scene.triangles) {
         addTriangle(gpu, scene, t.p0, t.p1, t.p2, t.material);
         grow(t.p0), grow(t.p1), grow(t.p2);
     }
     // Meshes become plain triangles in world space: flat facets, no corner normals.
-    for (const SceneMesh& sceneMesh : scene.meshes) {
+    for (const course::SceneMesh& sceneMesh : scene.meshes) {
         Mesh mesh = loadObj(sceneMesh.path);
         glm::mat4 worldFromMesh = sceneMesh.worldFromMesh();
         glm::vec3 corners[3];

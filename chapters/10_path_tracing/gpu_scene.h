@@ -1,4 +1,4 @@
-// A scene file (scene_file.h) turned into the arrays the shaders read: spheres, quads,
+// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
 // triangles (meshes included, placed in the world), materials, and the list of
 // emitters that next-event estimation samples.
 #pragma once
@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene_file.h"
+#include "course/scene_file.h"
 #include "shared.h"  // the gpu:: structs, laid out as the shaders read them
 
 struct GpuScene {
@@ -24,4 +24,4 @@ struct GpuScene {
 
 // Loads the scene's meshes (chapter 07's OBJ loader; exit code 3 with file:line) and
 // packs everything.
-GpuScene packScene(const SceneFile& scene);
+GpuScene packScene(const course::SceneFile& scene);

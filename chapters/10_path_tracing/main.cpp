@@ -10,9 +10,9 @@
 #include "camera.h"
 #include "course/fly_camera.h"
 #include "course/loop_budget.h"
+#include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-#include "scene_file.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 // --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
@@ -49,8 +49,8 @@ int main(int argc, char** argv) {
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
         const std::string& sceneOption = options.scene.empty() ? "cornell_spheres"
                                                                : options.scene;
-        SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
-                                            {COURSE_GENERATED_ASSET_DIR});
+        course::SceneFile sceneFile = course::loadSceneFile(
+            scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07).
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
         //    starts without them, and the fly camera may have moved.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram& path = session.loadCompute("path.comp");
-        const SceneCamera& c = sceneFile.camera;
+        const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
         const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
                                 : estimator == "bsdf" ? ESTIMATOR_BSDF

@@ -14,14 +14,14 @@ glm::uvec4 info(uint32_t material) { return {material, NO_EMITTER, 0u, 0u}; }
 
 // Every shape with a glowing material joins the emitter list; the shape remembers its
 // place there, so that a ray hitting it can ask how likely light sampling was to pick it.
-void addEmitter(GpuScene& gpu, const SceneFile& scene, glm::uvec4& shapeInfo, uint32_t kind,
+void addEmitter(GpuScene& gpu, const course::SceneFile& scene, glm::uvec4& shapeInfo, uint32_t kind,
                 size_t index, float area) {
     if (!scene.materials[shapeInfo.x].emits()) return;
     shapeInfo.y = static_cast<uint32_t>(gpu.emitters.size());
     gpu.emitters.push_back({kind, static_cast<uint32_t>(index), area, 0.0f});
 }
 
-void addTriangle(GpuScene& gpu, const SceneFile& scene, glm::vec3 a, glm::vec3 b,
+void addTriangle(GpuScene& gpu, const course::SceneFile& scene, glm::vec3 a, glm::vec3 b,
                  glm::vec3 c, uint32_t material) {
     gpu::Triangle triangle{glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0), info(material)};
     float area = 0.5f * glm::length(glm::cross(b - a, c - a));
@@ -52,28 +52,29 @@ void buildTree(GpuScene& gpu, const BvhOptions& options) {
 
 }  // namespace
 
-std::vector<Mesh> loadMeshes(const SceneFile& scene) {
+std::vector<Mesh> loadMeshes(const course::SceneFile& scene) {
     std::vector<Mesh> meshes;
-    for (const SceneMesh& sceneMesh : scene.meshes) meshes.push_back(loadObj(sceneMesh.path));
+    for (const course::SceneMesh& sceneMesh : scene.meshes)
+        meshes.push_back(loadObj(sceneMesh.path));
     return meshes;
 }
 
-void placeMeshInRoom(SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
+void placeMeshInRoom(course::SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
                      const std::string& path) {
     glm::vec3 roomLow(INFINITY), roomHigh(-INFINITY);
-    for (const SceneQuad& q : scene.quads)
+    for (const course::SceneQuad& q : scene.quads)
         for (glm::vec3 corner : {q.origin, q.origin + q.edge1, q.origin + q.edge2})
             roomLow = glm::min(roomLow, corner), roomHigh = glm::max(roomHigh, corner);
     glm::vec3 low(INFINITY), high(-INFINITY);
     for (glm::vec3 p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
     auto firstMatte = std::find_if(scene.materials.begin(), scene.materials.end(),
-                                   [](const SceneMaterial& m) { return !m.emits(); });
+                                   [](const course::SceneMaterial& m) { return !m.emits(); });
     if (scene.quads.empty() || firstMatte == scene.materials.end())
         course::fail(course::ExitCode::BadInput,
                      scene.path + ":0: --obj needs a room of quads and a material that "
                      "does not emit to place the mesh with");
 
-    SceneMesh placed;
+    course::SceneMesh placed;
     placed.path = std::filesystem::absolute(path).string();
     placed.writtenPath = path;
     placed.material = uint32_t(firstMatte - scene.materials.begin());
@@ -89,15 +90,15 @@ void placeMeshInRoom(SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
     meshes.push_back(std::move(mesh));
 }
 
-GpuScene packScene(const SceneFile& scene, const std::vector<Mesh>& meshes,
+GpuScene packScene(const course::SceneFile& scene, const std::vector<Mesh>& meshes,
                    const BvhOptions& bvhOptions) {
     GpuScene gpu;
-    for (const SceneMaterial& m : scene.materials)
+    for (const course::SceneMaterial& m : scene.materials)
         gpu.materials.push_back({glm::vec4(m.albedo, 0), glm::vec4(m.emission, 0)});
     glm::vec3 low(INFINITY), high(-INFINITY);
     auto grow = [&](glm::vec3 p) { low = glm::min(low, p); high = glm::max(high, p); };
 
-    for (const SceneSphere& s : scene.spheres) {
+    for (const course::SceneSphere& s : scene.spheres) {
         gpu::Sphere sphere{glm::vec4(s.center, s.radius), info(s.material)};
         float area = 4.0f * kPi * s.radius * s.radius;
         addEmitter(gpu, scene, sphere.info, SHAPE_SPHERE, gpu.spheres.size(), area);
@@ -105,7 +106,7 @@ GpuScene packScene(const SceneFile& scene, const std::vector<Mesh>& meshes,
         grow(s.center - s.radius);
         grow(s.center + s.radius);
     }
-    for (const SceneQuad& q : scene.quads) {
+    for (const course::SceneQuad& q : scene.quads) {
         gpu::Quad quad{glm::vec4(q.origin, 0), glm::vec4(q.edge1, 0), glm::vec4(q.edge2, 0),
                        info(q.material)};
         float area = glm::length(glm::cross(q.edge1, q.edge2));
@@ -116,14 +117,14 @@ GpuScene packScene(const SceneFile& scene, const std::vector<Mesh>& meshes,
         grow(q.origin + q.edge1);
         grow(q.origin + q.edge2);
     }
-    for (const SceneTriangle& t : scene.triangles) {
+    for (const course::SceneTriangle& t : scene.triangles) {
         addTriangle(gpu, scene, t.p0, t.p1, t.p2, t.material);
         grow(t.p0), grow(t.p1), grow(t.p2);
     }
     // Meshes become plain triangles in world space: flat facets, no corner normals.
     for (size_t m = 0; m < meshes.size(); ++m) {
         const Mesh& mesh = meshes[m];
-        const SceneMesh& sceneMesh = scene.meshes.at(m);
+        const course::SceneMesh& sceneMesh = scene.meshes.at(m);
         glm::mat4 worldFromMesh = sceneMesh.worldFromMesh();
         gpu.triangles.reserve(gpu.triangles.size() + mesh.triangleCount());
         glm::vec3 corners[3];

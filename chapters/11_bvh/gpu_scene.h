@@ -1,4 +1,4 @@
-// A scene file (scene_file.h) turned into the arrays the shaders read: spheres, quads,
+// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
 // triangles (meshes included, placed in the world), materials, the emitters that
 // next-event estimation samples, and the bounding volume hierarchy over the triangles.
 #pragma once
@@ -9,8 +9,8 @@
 #include <glm/glm.hpp>
 
 #include "bvh.h"
+#include "course/scene_file.h"
 #include "obj_loader.h"
-#include "scene_file.h"
 #include "shared.h"  // the gpu:: structs, laid out as the shaders read them
 
 struct GpuScene {
@@ -27,15 +27,15 @@ struct GpuScene {
 
 // The OBJ files the scene's `mesh` lines name, in their order (chapter 07's loader;
 // exit code 3 with file:line).
-std::vector<Mesh> loadMeshes(const SceneFile& scene);
+std::vector<Mesh> loadMeshes(const course::SceneFile& scene);
 
 // --obj: one more mesh in the scene, of the scene's first non-emitting material,
 // standing on the floor (the lowest point of the quads) in the middle of the room,
 // scaled to half of the room's width or depth, whichever is smaller.
-void placeMeshInRoom(SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
+void placeMeshInRoom(course::SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
                      const std::string& path);
 
 // Packs everything, builds the tree over all triangles (meshes included) and puts the
 // triangles in its leaf order.
-GpuScene packScene(const SceneFile& scene, const std::vector<Mesh>& meshes,
+GpuScene packScene(const course::SceneFile& scene, const std::vector<Mesh>& meshes,
                    const BvhOptions& bvhOptions = {});

@@ -8,14 +8,14 @@
 #include <numeric>
 #include <string>
 
-#include "camera.h"
 #include "bvh.h"
+#include "camera.h"
 #include "course/fly_camera.h"
 #include "course/log.h"
 #include "course/loop_budget.h"
+#include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-#include "scene_file.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 // --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
@@ -62,8 +62,8 @@ int main(int argc, char** argv) {
         //    over the triangles (exit code 3 on mistakes).
         std::string sceneOption = options.scene.empty() ? "cornell_teapot" : options.scene;
         if (options.scene.empty() && !options.objPath.empty()) sceneOption = "cornell_room";
-        SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
-                                            {COURSE_GENERATED_ASSET_DIR});
+        course::SceneFile sceneFile = course::loadSceneFile(
+            scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
         std::vector<Mesh> meshes = loadMeshes(sceneFile);
         if (!options.objPath.empty())
             placeMeshInRoom(sceneFile, meshes, loadObj(options.objPath), options.objPath);
@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
         //    starts without them, and the fly camera may have moved.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram& path = session.loadCompute("path.comp");
-        const SceneCamera& c = sceneFile.camera;
+        const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
         const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
                                 : estimator == "bsdf" ? ESTIMATOR_BSDF

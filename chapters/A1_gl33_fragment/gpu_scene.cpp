@@ -18,7 +18,7 @@ glm::vec4 infoTexel(uint32_t material, int64_t emitter) {
 
 // Every shape with a glowing material joins the emitter list; the shape remembers its
 // place there, so that a ray hitting it can ask how likely light sampling was to pick it.
-int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const SceneFile& scene,
+int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const course::SceneFile& scene,
                    uint32_t material, uint32_t kind, size_t index, float area) {
     if (!scene.materials[material].emits()) return -1;
     emitters.push_back({kind, static_cast<uint32_t>(index), area, 0.0f});
@@ -26,7 +26,7 @@ int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const SceneFile& scene,
 }
 
 // A uniform block's arrays have a size fixed when the shader is compiled.
-[[noreturn]] void tooMany(const SceneFile& scene, size_t count, const std::string& what,
+[[noreturn]] void tooMany(const course::SceneFile& scene, size_t count, const std::string& what,
                           int limit, const std::string& limitName) {
     course::fail(course::ExitCode::BadInput,
                  scene.path + ": " + std::to_string(count) + " " + what + ", but the "
@@ -37,13 +37,13 @@ int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const SceneFile& scene,
 }  // namespace
 
 // --8<-- [start:pack]
-GpuScene packScene(const SceneFile& scene) {
+GpuScene packScene(const course::SceneFile& scene) {
     GpuScene gpu;
     gpu::SceneBlock& block = *gpu.block;
     if (scene.materials.size() > MAX_MATERIALS)
         tooMany(scene, scene.materials.size(), "materials", MAX_MATERIALS, "MAX_MATERIALS");
     for (size_t i = 0; i < scene.materials.size(); ++i) {
-        const SceneMaterial& m = scene.materials[i];
+        const course::SceneMaterial& m = scene.materials[i];
         block.materials[i] = {glm::vec4(m.albedo, 0), glm::vec4(m.emission, 0)};
     }
     std::vector<gpu::Emitter> emitters;
@@ -55,7 +55,7 @@ GpuScene packScene(const SceneFile& scene) {
 
     block.firstTexel.x = 0;
     for (size_t i = 0; i < scene.spheres.size(); ++i) {
-        const SceneSphere& s = scene.spheres[i];
+        const course::SceneSphere& s = scene.spheres[i];
         int64_t emitter = addEmitter(emitters, scene, s.material, SHAPE_SPHERE, i,
                                      4.0f * kPi * s.radius * s.radius);
         add({glm::vec4(s.center, s.radius), infoTexel(s.material, emitter)});
@@ -64,7 +64,7 @@ GpuScene packScene(const SceneFile& scene) {
     }
     block.firstTexel.y = uint32_t(gpu.texels.size());
     for (size_t i = 0; i < scene.quads.size(); ++i) {
-        const SceneQuad& q = scene.quads[i];
+        const course::SceneQuad& q = scene.quads[i];
         int64_t emitter = addEmitter(emitters, scene, q.material, SHAPE_QUAD, i,
                                      glm::length(glm::cross(q.edge1, q.edge2)));
         add({glm::vec4(q.origin, 0), glm::vec4(q.edge1, 0), glm::vec4(q.edge2, 0),
@@ -82,9 +82,10 @@ GpuScene packScene(const SceneFile& scene) {
         add({glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0), infoTexel(material, emitter)});
         grow(a), grow(b), grow(c);
     };
-    for (const SceneTriangle& t : scene.triangles) addTriangle(t.p0, t.p1, t.p2, t.material);
+    for (const course::SceneTriangle& t : scene.triangles)
+        addTriangle(t.p0, t.p1, t.p2, t.material);
     // Meshes become plain triangles in world space: flat facets, no corner normals.
-    for (const SceneMesh& sceneMesh : scene.meshes) {
+    for (const course::SceneMesh& sceneMesh : scene.meshes) {
         Mesh mesh = loadObj(sceneMesh.path);
         glm::mat4 worldFromMesh = sceneMesh.worldFromMesh();
         glm::vec3 corners[3];

@@ -1,4 +1,4 @@
-// A scene file (scene_file.h) turned into what the shaders read: the shapes as texels
+// A scene file (course/scene_file.h) turned into what the shaders read: the shapes as texels
 // of one buffer texture (spheres, quads, triangles, meshes included and placed in the
 // world), and the materials and the emitters that next-event estimation samples as one
 // uniform block.
@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene_file.h"
+#include "course/scene_file.h"
 #include "shared.h"  // the texel layout and gpu::SceneBlock, as the shaders read them
 
 struct GpuScene {
@@ -26,4 +26,4 @@ struct GpuScene {
 // Loads the scene's meshes (chapter 07's OBJ loader; exit code 3 with file:line) and
 // packs everything. More materials or emitters than the uniform block holds
 // (MAX_MATERIALS, MAX_EMITTERS) is exit code 3, naming the scene file.
-GpuScene packScene(const SceneFile& scene);
+GpuScene packScene(const course::SceneFile& scene);

@@ -12,10 +12,10 @@
 #include "camera.h"
 #include "course/fly_camera.h"
 #include "course/loop_budget.h"
+#include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
 #include "scene_buffers.h"
-#include "scene_file.h"
 #include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
 
 // --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
         //    code 3 on mistakes, or when the block's arrays are too small).
         const std::string& sceneOption = options.scene.empty() ? "cornell_spheres"
                                                                : options.scene;
-        SceneFile sceneFile = loadSceneFile(scenePath(session, sceneOption),
-                                            {COURSE_GENERATED_ASSET_DIR});
+        course::SceneFile sceneFile = course::loadSceneFile(
+            scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07), and it is
@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
             {{GL_FRAGMENT_SHADER, "seed.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
         course::ShaderProgram& path = session.loadProgram(
             {{GL_FRAGMENT_SHADER, "path.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
-        const SceneCamera& c = sceneFile.camera;
+        const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
         const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
                                 : estimator == "bsdf" ? ESTIMATOR_BSDF

@@ -11,11 +11,16 @@
 #include <utility>
 
 #include "course/error.h"
-#include "text_file.h"
+#include "course/text_file.h"  // reading the file whole, words, quoting in messages
 
 namespace {
 
 using course::ExitCode;
+using course::inQuotes;
+using course::isControlByte;
+using course::isDigit;
+using course::isLetter;
+using course::nextWord;
 
 // Indices are 32-bit; staying below 2^31 also keeps them valid as GLSL `int`s.
 constexpr size_t kMostElements = size_t(1) << 31;
@@ -244,8 +249,8 @@ private:
 
 // --8<-- [start:load]
 Mesh loadObj(const std::string& path) {
-    const std::string shownPath = absolutePath(path);
-    const std::string text = readWholeFile(path, kMostBytes, "an OBJ file");
+    const std::string shownPath = course::absolutePath(path);
+    const std::string text = course::readWholeFile(path, kMostBytes, "an OBJ file");
     ObjParser parser(shownPath);
     if (text.empty())
         parser.failAt(0, "empty file");

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/fwd.hpp>
+
 namespace course {
 
 enum class Backend { Auto, Egl, OsMesa, Glfw };
@@ -47,6 +49,12 @@ public:
                 const std::string& help, int* target, int minValue, int maxValue);
     void option(const std::string& name, const std::string& valueName,
                 const std::string& help, std::string* target);
+    // A finite number ("0.035"), or three of them with commas ("0,-0.25,-1"); --help
+    // adds the target's value when declared as the default.
+    void option(const std::string& name, const std::string& valueName,
+                const std::string& help, float* target);
+    void option(const std::string& name, const std::string& valueName,
+                const std::string& help, glm::vec3* target);
     void choice(const std::string& name, const std::string& help,
                 const std::vector<std::string>& choices, std::string* target);
     // Which shared options this chapter accepts beyond the basics (e.g. --obj from 07).

@@ -10,8 +10,8 @@ endif()
 
 set(_bvh_dir ${CMAKE_SOURCE_DIR}/chapters/11_bvh)
 foreach(test test_bvh test_bvh_gpu)
-  add_unit_test(${test} ${test}.cpp ${_bvh_dir}/bvh.cpp ${_bvh_dir}/obj_loader.cpp
-    ${_bvh_dir}/text_file.cpp)
+  # The OBJ loader's text plumbing (common/text_file.cpp) comes with course_common.
+  add_unit_test(${test} ${test}.cpp ${_bvh_dir}/bvh.cpp ${_bvh_dir}/obj_loader.cpp)
   target_include_directories(${test} PRIVATE ${_bvh_dir}
     ${CMAKE_SOURCE_DIR}/shaders/11_bvh)
   target_compile_definitions(${test} PRIVATE

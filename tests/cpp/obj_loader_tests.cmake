@@ -1,5 +1,6 @@
 # Chapter 07's OBJ loader, checked against tinyobjloader (Debian: libtinyobjloader-dev,
 # a shared library with a CMake package) on the OBJ corpus and the generated teapots.
+# Its file reading and words (common/text_file.cpp) come with course_common.
 # Included from tests/cpp/CMakeLists.txt, after add_unit_test() is defined.
 find_package(tinyobjloader CONFIG REQUIRED)
 if(NOT TARGET course_assets)

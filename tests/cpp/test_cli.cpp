@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "course/cli.h"
 #include "course/error.h"
 
@@ -64,6 +66,43 @@ TEST(CommandLine, ChapterOptions) {
               std::string::npos);
     EXPECT_NE(usageError(cli, {"--dispatch", "3d"}).find("one of 1d|2d"), std::string::npos);
     EXPECT_NE(cli.usage().find("--direct"), std::string::npos);
+}
+
+// The camera options of chapters 03-06: numbers and x,y,z vectors, typed and checked
+// by the command line, their defaults in --help.
+TEST(CommandLine, NumberAndVectorOptions) {
+    course::CommandLine cli("test");
+    float focal = 0.035f;
+    glm::vec3 eye(0.0f, 1.0f, 4.0f), look(0.0f, -0.25f, -1.0f);
+    cli.option("--focal", "M", "metres", &focal);
+    cli.option("--eye", "X,Y,Z", "where", &eye);
+    cli.option("--look", "X,Y,Z", "which way", &look);
+    const std::string usage = cli.usage();
+    EXPECT_NE(usage.find("--focal M               metres (default 0.035)"), std::string::npos)
+        << usage;
+    EXPECT_NE(usage.find("where (default 0,1,4)"), std::string::npos) << usage;
+    EXPECT_NE(usage.find("which way (default 0,-0.25,-1)"), std::string::npos) << usage;
+
+    parse(cli, {"--headless", "--focal", "1e-3", "--eye", "-1,0.5,2"});
+    EXPECT_EQ(focal, 1e-3f);
+    EXPECT_EQ(eye, glm::vec3(-1.0f, 0.5f, 2.0f));
+    EXPECT_EQ(look, glm::vec3(0.0f, -0.25f, -1.0f));  // not given: the default stays
+
+    EXPECT_EQ(usageError(cli, {"--eye", "1,2"}),
+              "--eye expects three numbers x,y,z, got '1,2' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--eye", "1,2,3,4"}),
+              "--eye expects three numbers x,y,z, got '1,2,3,4' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--eye", "1,,3"}),
+              "--eye expects a finite number, got '' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--eye", "nan,0,0"}),
+              "--eye expects a finite number, got 'nan' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--focal", "inf"}),
+              "--focal expects a finite number, got 'inf' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--focal", "1e39"}),  // beyond float: infinity
+              "--focal expects a finite number, got '1e39' (see --help)");
+    EXPECT_EQ(usageError(cli, {"--focal", "0.5m"}),
+              "--focal expects a finite number, got '0.5m' (see --help)");
+    EXPECT_NE(usageError(cli, {"--look"}).find("--look needs a value"), std::string::npos);
 }
 
 TEST(CommandLine, BadUsage) {

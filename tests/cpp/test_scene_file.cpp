@@ -1,6 +1,6 @@
-// Chapter 10's scene files: every statement read as documented, the exact message for
-// every mistake, round trips through formatSceneFile, the shipped scenes, and no crash
-// or hang on garbage.
+// The scene files of chapters 10, 11 and the appendix (common/course/scene_file.h):
+// every statement read as documented, the exact message for every mistake, round trips
+// through formatSceneFile, the shipped scenes, and no crash or hang on garbage.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,10 +15,16 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "course/error.h"
-#include "scene_file.h"
+#include "course/scene_file.h"
 
 namespace fs = std::filesystem;
 using course::ExitCode;
+using course::formatSceneFile;
+using course::loadSceneFile;
+using course::parseSceneText;
+using course::SceneFile;
+using course::SceneMesh;
+using course::SceneQuad;
 
 namespace {
 

@@ -1,18 +1,18 @@
-// Fuzzes chapter 10's scene-file parser from memory; a scene that parses must also
-// survive a round trip through formatSceneFile (the writer) and parse again.
+// Fuzzes the scene-file parser (common/scene_file.cpp) from memory; a scene that parses
+// must also survive a round trip through formatSceneFile (the writer) and parse again.
 #include <string>
 #include <string_view>
 
 #include "course/error.h"
-#include "scene_file.h"
+#include "course/scene_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string_view text(reinterpret_cast<const char*>(data), size);
     try {
-        SceneFile scene = parseSceneText(text, "/fuzz/input.scene", {});
-        std::string written = formatSceneFile(scene);
+        course::SceneFile scene = course::parseSceneText(text, "/fuzz/input.scene", {});
+        std::string written = course::formatSceneFile(scene);
         try {
-            parseSceneText(written, "/fuzz/written.scene", {});
+            course::parseSceneText(written, "/fuzz/written.scene", {});
         } catch (const course::Failure&) {
             __builtin_trap();  // what the writer writes, the reader must read
         }

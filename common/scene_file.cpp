@@ -1,8 +1,8 @@
-// Chapter 10: scenes from text files. The file is read whole and walked line by line,
-// as the OBJ loader does (chapter 07); each statement is checked as it is read, and
-// what needs the whole file (materials used before their line, the camera, an emitter)
-// is checked at the end.
-#include "scene_file.h"
+// Scenes from text files (chapters 10, 11 and the appendix). The file is read whole and
+// walked line by line, as the OBJ loader does (chapter 07); each statement is checked
+// as it is read, and what needs the whole file (materials used before their line, the
+// camera, an emitter) is checked at the end.
+#include "course/scene_file.h"
 
 #include <charconv>
 #include <cmath>
@@ -16,12 +16,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "course/error.h"
-#include "text_file.h"
+#include "course/text_file.h"
 
+namespace course {
 namespace {
 
 namespace fs = std::filesystem;
-using course::ExitCode;
 
 // A scene file is a few kilobytes: meshes live in OBJ files. This only stops a wrong
 // file (a video, a disk image) from being read into memory whole.
@@ -484,3 +484,5 @@ std::string formatSceneFile(const SceneFile& scene) {
                 " translate " + numbers(mesh.translation) + shapeName(mesh.name);
     return text;
 }
+
+}  // namespace course

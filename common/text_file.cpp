@@ -1,4 +1,4 @@
-#include "text_file.h"
+#include "course/text_file.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -7,6 +7,8 @@
 #include <system_error>
 
 #include "course/error.h"
+
+namespace course {
 
 bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
@@ -59,23 +61,21 @@ std::string inBinaryUnits(std::uintmax_t bytes) {
 std::string readWholeFile(const std::string& path, std::uintmax_t mostBytes,
                           const std::string& kind) {
     namespace fs = std::filesystem;
-    using course::ExitCode;
     const std::string shownPath = absolutePath(path);
     std::error_code error;
     const fs::file_status status = fs::status(path, error);
     if (fs::is_directory(status))
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
+        fail(ExitCode::BadInput, shownPath + ": cannot open: it is a directory");
     if (fs::exists(status) && !fs::is_regular_file(status))
-        course::fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
+        fail(ExitCode::BadInput, shownPath + ": cannot open: not a regular file");
     const std::string tooLarge = shownPath + ": too large for " + kind;
     const std::uintmax_t size = fs::file_size(path, error);
     if (!error && size > mostBytes)
-        course::fail(ExitCode::BadInput, tooLarge + ": " + std::to_string(size) +
-                                             " bytes, over " + inBinaryUnits(mostBytes));
+        fail(ExitCode::BadInput, tooLarge + ": " + std::to_string(size) + " bytes, over " +
+                                     inBinaryUnits(mostBytes));
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file)
-        course::fail(ExitCode::BadInput,
-                     shownPath + ": cannot open (" + std::strerror(errno) + ")");
+        fail(ExitCode::BadInput, shownPath + ": cannot open (" + std::strerror(errno) + ")");
 
     std::string text;
     if (!error)
@@ -87,8 +87,10 @@ std::string readWholeFile(const std::string& path, std::uintmax_t mostBytes,
     const bool failed = std::ferror(file) != 0;
     std::fclose(file);
     if (failed)
-        course::fail(ExitCode::BadInput, shownPath + ": cannot read the file");
+        fail(ExitCode::BadInput, shownPath + ": cannot read the file");
     if (text.size() > mostBytes)  // the file grew while it was read
-        course::fail(ExitCode::BadInput, tooLarge);
+        fail(ExitCode::BadInput, tooLarge);
     return text;
 }
+
+}  // namespace course

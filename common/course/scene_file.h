@@ -1,6 +1,7 @@
 // Scenes as small text files (assets/scenes/*.scene), read by a strict line parser.
-// No GL here: the chapter turns a SceneFile into storage buffers, and loads the meshes
-// it names with the OBJ loader of chapter 07.
+// The scene-file reader of chapters 10, 11 and the appendix; no chapter teaches it, so
+// it lives here once. No GL: a chapter turns a SceneFile into what its shaders read,
+// and loads the meshes it names with its own OBJ loader (chapter 07's lesson).
 //
 // The format, one statement per line; `#` starts a comment; numbers are decimal (1,
 // -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
@@ -43,6 +44,8 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+
+namespace course {
 
 // --8<-- [start:types]
 struct SceneCamera {
@@ -120,3 +123,5 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
 // The scene as text in the format above, with every number written so that it reads
 // back as the same float: parseSceneText(formatSceneFile(s)) gives s again.
 std::string formatSceneFile(const SceneFile& scene);
+
+}  // namespace course

@@ -1,10 +1,13 @@
-// Text files as this chapter's two parsers read them, the OBJ loader (chapter 07) and
-// the scene files: the whole file at once, then lines and words as string_views. No
-// stream per token, and no line, however long or strange, can crash or hang a parser.
+// Text files as the course's two parsers read them, the OBJ loader (chapter 07) and
+// the scene files (course/scene_file.h): the whole file at once, then lines and words
+// as string_views. No stream per token, and no line, however long or strange, can
+// crash or hang a parser.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <string_view>
+
+namespace course {
 
 bool isBlank(char c);        // space, tab, or the \r of a CR LF line end
 bool isControlByte(char c);  // a byte no text file has (tab, CR and LF aside)
@@ -25,3 +28,5 @@ std::string absolutePath(const std::string& path);
 // or never end), or longer than `mostBytes`: "too large for <kind>".
 std::string readWholeFile(const std::string& path, std::uintmax_t mostBytes,
                           const std::string& kind);
+
+}  // namespace course
