@@ -100,16 +100,27 @@ def check_all_markers(root: Path) -> int:
 STUDENT_README = """# Chapter {number}: {title}
 
 This is the starter code for chapter {name} of the GPU ray tracing course. The parts
-you write are marked `TODO` in `chapters/{name}/` and `shaders/{name}/`; the chapter's
-page is in `book/{name}.md`.
+you write are marked `TODO` in `chapters/{name}/` and `shaders/{name}/`.
+
+The chapter's page, with this folder's code in its listings: open
+`book/{name}.html` in a browser (it needs no network), or read `book/{name}.md`
+(GitHub shows it, formulas too).
 
 ```bash
 ./course run {number}     # build and render; prints the PNG's path
-./course test {number}    # the same checks your grader runs
+./course test {number}    # the chapter's own checks (not your grader's)
 ```
 
 Until you fill in the TODOs, the program builds and runs but draws the wrong picture
 (or, for chapter 01, reports wrong sums). Hand in this whole folder.
+
+`./course test` runs the book's checks of this chapter: your pictures against references
+computed another way (numpy, Mitsuba 3) and properties a right program has. Your grader
+runs other tests, with arguments you do not see, and compares your program's output with
+the solution's for the same arguments: exactly where there is one right picture, and by
+statistics where the picture is random (region by region, with your program's own noise,
+at its own seeds), so any correct way of drawing random numbers passes. Passing
+`./course test` is a good sign, not a promise of full marks.
 """
 
 
@@ -136,8 +147,77 @@ def imported_prototypes(test_file: Path, prototypes: Path) -> set[Path]:
     return wanted
 
 
-def release(root: Path, chapter: str, out: Path) -> Path:
-    """Writes the starter of `chapter` (e.g. '04_spheres') into `out`."""
+def chapter_code(root: Path, chapter: str) -> tuple[str, str]:
+    """All of a chapter's marked code, as the solution has it and as its starter does."""
+    solution, starter = [], []
+    for top in ("chapters", "shaders"):
+        for path in sorted((root / top / chapter).rglob("*")):
+            if path.is_file() and path.suffix in MARKED_SUFFIXES:
+                text = path.read_text()
+                solution.append(text)
+                starter.append(strip_solutions(text, str(path.relative_to(root))))
+    return "\n".join(solution), "\n".join(starter)
+
+
+def without_planted_mistakes(test: str, solution: str, starter: str) -> str:
+    """A chapter's test file for its starter. The checks that prove they can fail plant
+    a mistake in a copy of the solution (`replace("t = tClosest - halfChord;", ...)`):
+    they can only run on the solution, and their strings are pieces of it. A test
+    function that calls .replace() and uses a string found in the solution but not in
+    the starter is left out, with the module-level constants only such tests use."""
+    import ast
+    tree = ast.parse(test)
+
+    def strings(node) -> set[str]:
+        return {n.value for n in ast.walk(node)
+                if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+
+    def solution_only(text: str) -> bool:
+        return bool(text.strip()) and text in solution and text not in starter
+
+    constants = {}  # module-level NAME = ... -> its node
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and len(node.targets) == 1 \
+                and isinstance(node.targets[0], ast.Name):
+            constants[node.targets[0].id] = node
+    def plants(node) -> bool:  # calls something.replace(...)
+        return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
+                   and n.func.attr == "replace" for n in ast.walk(node))
+
+    cut = []
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef) and node.name.startswith("test_") \
+                and plants(node):
+            used = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
+            texts = strings(node).union(*(strings(constants[name]) for name in used
+                                          if name in constants))
+            if any(map(solution_only, texts)):
+                cut.append(node)
+    if not cut:
+        return test
+    kept_names = set()
+    for node in tree.body:
+        if node not in cut:
+            kept_names |= {n.id for n in ast.walk(node) if isinstance(n, ast.Name)
+                           and isinstance(n.ctx, ast.Load)}
+    for name, node in constants.items():
+        if name not in kept_names and any(map(solution_only, strings(node))):
+            cut.append(node)
+    lines = test.splitlines(keepends=True)
+    for node in sorted(cut, key=lambda n: n.lineno, reverse=True):
+        first = min([node.lineno] + [d.lineno for d in getattr(node, "decorator_list", [])])
+        while first > 1 and lines[first - 2].startswith("#"):
+            first -= 1  # the comment that introduces it
+        lines[first - 1:node.end_lineno] = []
+    note = ("\n# (The course's checks that plant mistakes in a copy of the solution are not\n"
+            "# part of the starter: they run on the solution only.)\n")
+    return "".join(lines).rstrip("\n") + "\n" + note
+
+
+def release(root: Path, chapter: str, out: Path, figures: Path | None = None) -> Path:
+    """Writes the starter of `chapter` (e.g. '04_spheres') into `out`, with the chapter's
+    page rendered against the starter's code (tools/editions.py) in book/, and the
+    page's figures from the folder `figures` (./course release renders them) if given."""
     number = chapter[:2]
     if out.exists():
         shutil.rmtree(out)
@@ -165,8 +245,11 @@ def release(root: Path, chapter: str, out: Path) -> Path:
     if not number.isdigit() or int(number) >= 7:
         copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
+    solution, starter = chapter_code(root, chapter)
     for test in tests:
-        copy(str(test.relative_to(root)))
+        target = out / test.relative_to(root)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(without_planted_mistakes(test.read_text(), solution, starter))
         for module in imported_prototypes(test, root / "python_prototypes"):
             copy(str(module.relative_to(root)))
 
@@ -193,16 +276,31 @@ def release(root: Path, chapter: str, out: Path) -> Path:
     page = root / "book" / "docs" / "chapters" / f"{chapter}.md"
     title = chapter[3:].replace("_", " ")
     if page.exists():
-        (out / "book").mkdir(exist_ok=True)
-        shutil.copy2(page, out / "book" / page.name)
         heading = page.read_text().splitlines()[0]
         title = heading.split("·", 1)[-1].strip() if "·" in heading else title
+        write_page(root, chapter, out, figures, f"{number} · {title}")
     (out / "README.md").write_text(STUDENT_README.format(number=number, name=chapter,
                                                          title=title))
     workflow = out / ".github" / "workflows" / "classroom.yml"
     workflow.parent.mkdir(parents=True)
     workflow.write_text(classroom_workflow(number))
     return out
+
+
+def write_page(root: Path, chapter: str, out: Path, figures: Path | None, title: str):
+    """book/NN_name.md (the page with the starter's code inlined), book/NN_name.html
+    (the same page, standing alone: formulas typeset, figures beside it) and
+    book/figures/."""
+    import editions
+    book = out / "book"
+    book.mkdir(exist_ok=True)
+    markdown = editions.starter_markdown(root, chapter, out)
+    (book / f"{chapter}.md").write_text(markdown)
+    (book / f"{chapter}.html").write_text(editions.render_page(markdown, title, chapter))
+    for name in editions.page_figures_inlined(markdown):
+        if figures is not None and (figures / name).exists():
+            (book / "figures").mkdir(exist_ok=True)
+            shutil.copyfile(figures / name, book / "figures" / name)
 
 
 # ---------------------------------------------------------------- autograder packages

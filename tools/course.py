@@ -404,30 +404,11 @@ def cmd_fuzz(args):
         die("fuzzing found a crash: the input is kept in tests/data/fuzz_regressions/")
 
 
-def checkpoint_files(name: str) -> dict[str, Path]:
-    files = {}
-    for top in ("chapters", "shaders"):
-        folder = ROOT / top / name
-        for path in sorted(folder.rglob("*")) if folder.exists() else []:
-            if path.is_file():
-                files[f"{top}/{path.relative_to(folder)}"] = path
-    return files
-
-
 def checkpoint_diff(a: str, b: str) -> list[tuple[str, list[str]]]:
     """Per file, the unified diff from checkpoint a to checkpoint b."""
-    old, new = checkpoint_files(a), checkpoint_files(b)
-    result = []
-    for key in sorted(set(old) | set(new)):
-        before = old[key].read_text().splitlines() if key in old else []
-        after = new[key].read_text().splitlines() if key in new else []
-        top, rest = key.split("/", 1)
-        lines = list(difflib.unified_diff(
-            before, after, f"{top}/{a}/{rest}" if key in old else "/dev/null",
-            f"{top}/{b}/{rest}" if key in new else "/dev/null", lineterm=""))
-        if lines:
-            result.append((key, lines))
-    return result
+    import editions
+    return editions.checkpoint_diff(editions.checkpoint_texts(ROOT, a),
+                                    editions.checkpoint_texts(ROOT, b), a, b)
 
 
 def cmd_diff(args):
@@ -464,21 +445,36 @@ def draft_arguments(arguments: list[str]) -> list[str]:
     return quick
 
 
-def render_book_figures(draft: bool = False):
-    """Every picture in the book comes from the real programs, listed in figures.tsv."""
-    GENERATED.mkdir(parents=True, exist_ok=True)
-    rows = [line.split("\t") for line in (BOOK / "figures.tsv").read_text().splitlines()
+def figure_rows() -> list[tuple[str, str, str]]:
+    """(figure, program, arguments) of every picture in the book (book/figures.tsv)."""
+    return [tuple(line.split("\t")) for line in (BOOK / "figures.tsv").read_text().splitlines()
             if line.strip() and not line.startswith("#")]
+
+
+def figure_programs(rows) -> list[str]:
+    """The chapter programs that render these figures (the build targets they need)."""
+    return sorted({find_chapter(program) for _, program, _ in rows
+                   if not program.startswith("python_prototypes/")})
+
+
+def render_figures(rows, out: Path, draft: bool = False):
+    """Renders figures (rows of figures.tsv) into `out`, with the real programs."""
+    out.mkdir(parents=True, exist_ok=True)
     for figure, program, arguments in rows:
-        out = GENERATED / figure
         if program.startswith("python_prototypes/"):
-            command = [sys.executable, str(ROOT / program), *arguments.split(), "--figure", str(out)]
+            command = [sys.executable, str(ROOT / program), *arguments.split(), "--figure",
+                       str(out / figure)]
         else:
             options = arguments.split()
-            command = [str(binary(find_chapter(program))), "--headless", "--out", str(out),
-                       *(draft_arguments(options) if draft else options)]
+            command = [str(binary(find_chapter(program))), "--headless", "--out",
+                       str(out / figure), *(draft_arguments(options) if draft else options)]
         say(f"figure {figure}")
         run_checked(command, cwd=ROOT, stdout=subprocess.DEVNULL)
+
+
+def render_book_figures(draft: bool = False):
+    """Every picture in the book comes from the real programs, listed in figures.tsv."""
+    render_figures(figure_rows(), GENERATED, draft)
     for a, b in book_diff_pairs():
         lines = [l for _, d in checkpoint_diff(a, b) for l in d]
         (GENERATED / f"diff_{a[:2]}_{b[:2]}.diff").write_text("\n".join(lines) + "\n")
@@ -499,9 +495,13 @@ def book_diff_pairs() -> list[tuple[str, str]]:
 
 
 def cmd_book(args):
+    import editions
     build()
     render_book_figures(draft=args.draft)
     os.environ["NO_MKDOCS_2_WARNING"] = "1"  # Material 9.7+ advertises its successor
+    # book/hooks/edition.py reads this: the student edition's listings come from the
+    # starters' code, without the answer notes, into book/site-student.
+    os.environ[editions.EDITION_VARIABLE] = "student" if args.student else "instructors"
     mkdocs = [sys.executable, "-m", "mkdocs"]
     config = str(BOOK / "mkdocs.yml")
     if args.serve:
@@ -509,7 +509,8 @@ def cmd_book(args):
     else:
         # cwd: snippet paths in the pages are relative to the repository root.
         run_checked([*mkdocs, "build", "--strict", "-q", "-f", config], cwd=ROOT)
-        print(BOOK / "site" / "index.html")
+        site = editions.STUDENT_SITE if args.student else BOOK / "site"
+        print(site / "index.html")
 
 
 def cmd_bench(args):
@@ -538,9 +539,20 @@ def cmd_release(args):
     out = Path(args.out) if args.out else BUILD / "release" / f"{name}-starter"
     try:
         classroom.check_all_markers(ROOT)
-        classroom.release(ROOT, name, out.resolve())
     except classroom.MarkerError as error:
         die(str(error), code=3)
+    # The starter's page shows the chapter's figures: rendered here by the solution's
+    # programs (pictures to reproduce, not code), like the book's.
+    import editions
+    page = BOOK / "docs" / "chapters" / f"{name}.md"
+    wanted = editions.page_figures(page.read_text()) if page.exists() else []
+    rows = [row for row in figure_rows() if row[0] in wanted]
+    build([name, "course_assets", *figure_programs(rows)])
+    figures = BUILD / "release" / f"{name}-figures"
+    if figures.exists():
+        shutil.rmtree(figures)
+    render_figures(rows, figures, draft=args.draft)
+    classroom.release(ROOT, name, out.resolve(), figures=figures)
     print(out.resolve())
 
 
@@ -589,7 +601,7 @@ def cmd_autograder(args):
 
 # The set-up layer each verb needs (tools/machine_setup.py); verbs not named here only
 # read files and run with whatever Python started ./course.
-VERB_LAYERS = {"setup": "run", "build": "run", "run": "run", "release": "run",
+VERB_LAYERS = {"setup": "run", "build": "run", "run": "run", "release": "book",
                "book": "book", "grade": "grade", "autograder": "grade",
                "test": "test", "bench": "test", "fuzz": "test"}
 
@@ -650,6 +662,9 @@ def main():
     book.add_argument("--serve", action="store_true", help="preview on localhost:8000")
     book.add_argument("--draft", action="store_true",
                       help="quick small figures (how ./course test checks the book builds)")
+    book.add_argument("--student", action="store_true",
+                      help="the student edition, to publish: the starters' code instead of "
+                      "the solutions, no answer notes (into book/site-student)")
 
     bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box; "
                              "chapter 11's BVH against brute force, 552 to 1M triangles")
@@ -661,9 +676,12 @@ def main():
 
     release = verbs.add_parser("release", help="write a student starter for a chapter",
                                description="Copies the checkpoint with every BEGIN/END "
-                               "SOLUTION block replaced by its TODO hint and STUB lines.")
+                               "SOLUTION block replaced by its TODO hint and STUB lines, with "
+                               "the chapter's page rendered against that code (book/).")
     release.add_argument("chapter")
     release.add_argument("--out", help="folder to write (default build/release/NN_name-starter)")
+    release.add_argument("--draft", action="store_true",
+                         help="quick small figures on the starter's page")
 
     grade = verbs.add_parser("grade", help="grade a student submission of a chapter",
                              description="Builds and runs the submission headless in a "
