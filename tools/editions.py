@@ -401,6 +401,8 @@ img {{ max-width: 100%; }}
                         padding: 0.3em 1em; margin: 1em 0; }}
 .admonition-title, summary {{ font-weight: 600; }}
 table {{ border-collapse: collapse; }} td, th {{ border: 1px solid #ddd; padding: 0.3em 0.6em; }}
+math {{ font-family: "STIX Two Math", "Latin Modern Math", "Cambria Math", math;
+        font-size: 1.1em; }}
 math[display="block"] {{ margin: 1em 0; overflow-x: auto; }}
 .starter-note {{ color: #555; font-size: 0.9em; border-bottom: 1px solid #ddd;
                  padding-bottom: 0.5em; }}
