@@ -8,10 +8,11 @@ hint, and the stub), and the answer notes are left out.
 
 A block's code does not stay inside its own chapter: once chapter 04 is done, its
 sphere test is given code in chapter 05's folder, unmarked, and so on forward. In the
-student edition such a copy is taken out too, wherever a later chapter still has it
-word for word, and shown as `// TODO (chapter 04): <hint>` with the stub: a student
-reading ahead is not handed chapter 04's answer by chapter 06's listing or diff. Copies
-that a later chapter changed are caught line by line (censor_leftovers).
+student edition such a copy is taken out too, and shown as
+`// TODO (chapter 04): <hint>` with the stub: a student reading ahead is not handed
+chapter 04's answer by chapter 06's listing or diff. Copies are found word for word
+(censor_copies) or, where a later chapter changed them a little, by aligning the
+block's lines with the file's (changed_copy).
 
 A starter's page (classroom.release) is the chapter's page with every snippet resolved
 against the starter's own files, its formulas typeset and its figures beside it: one
@@ -292,7 +293,7 @@ SECTION = re.compile(r"--8<-- \[(?P<kind>start|end):(?P<name>\w+)\]")
 
 
 class SnippetError(Exception):
-    pass
+    """A starter's page that cannot be made: a listing or a formula, named."""
 
 
 def snippet(base: Path, target: str, where: str) -> list[str]:
