@@ -617,8 +617,10 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
     tests = SPECS[chapter[:2]]
     out.mkdir(parents=True, exist_ok=True)
     prepare_references(root, build, chapter)  # as this user, before any student code
+    # The handed-in folder is closed too: where the kernel refuses a mount namespace (a
+    # chroot, some containers), permissions are all that keep it from the running copy.
     with sandbox.Sandbox(hide=[root, build, submission, out, *hide],
-                         close=[root, build, *close]) as box:
+                         close=[root, build, submission, *close]) as box:
         source = box.folder("submission", writable=False)
         notes = copy_submission(submission, chapter, source)
         box.seal(source)
