@@ -587,6 +587,13 @@ def cmd_grade(args):
             grader.print_table(results)
             print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
     except sandbox.SandboxError as error:
+        if args.submission and not args.prepare:
+            # Gradescope shows results.json, not our stderr: the reason goes there too,
+            # with no points, so a refusal is never mistaken for a grade.
+            out = Path(args.out).resolve() if args.out else BUILD / "grades" / folder.name
+            out.mkdir(parents=True, exist_ok=True)
+            failed = grader.failed_results(name, f"not graded: {error}")
+            (out / "results.json").write_text(json.dumps(failed, indent=2))
         die(str(error))
 
 
