@@ -47,6 +47,16 @@ void GpuBuffer::bindStorage(GLuint binding) const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_);
 }
 
+void GpuBuffer::bindUniform(GLuint binding) const {
+    GLint maxBlockBytes = 0;
+    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &maxBlockBytes);
+    if (maxBlockBytes > 0 && static_cast<GLint64>(bytes_) > maxBlockBytes)
+        fail(ExitCode::GlProblem,
+             "a uniform buffer of " + std::to_string(bytes_) + " bytes exceeds this GL's "
+             "GL_MAX_UNIFORM_BLOCK_SIZE of " + std::to_string(maxBlockBytes));
+    glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_);
+}
+
 void GpuBuffer::write(const void* data, size_t bytes, size_t offset) {
     glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
     glBufferSubData(GL_COPY_WRITE_BUFFER, static_cast<GLintptr>(offset),

@@ -1,6 +1,7 @@
 #include "course/shader_program.h"
 
 #include <cstdio>
+#include <regex>
 #include <utility>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -82,7 +83,7 @@ std::vector<ShaderFile> withoutRepeats(const std::vector<ShaderFile>& files) {
 ShaderProgram::ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages)
     : shaderDir_(std::move(shaderDir)), stages_(std::move(stages)) {
     std::vector<ShaderFile> filesRead;
-    id_ = build(filesRead);
+    id_ = build(filesRead, sources_);
     watched_ = withoutRepeats(filesRead);
 }
 
@@ -92,7 +93,8 @@ ShaderProgram::~ShaderProgram() {
 
 ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
     : id_(std::exchange(other.id_, 0)), shaderDir_(std::move(other.shaderDir_)),
-      stages_(std::move(other.stages_)), watched_(std::move(other.watched_)) {}
+      stages_(std::move(other.stages_)), watched_(std::move(other.watched_)),
+      sources_(std::move(other.sources_)) {}
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
     if (this != &other) {
@@ -101,16 +103,19 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
         shaderDir_ = std::move(other.shaderDir_);
         stages_ = std::move(other.stages_);
         watched_ = std::move(other.watched_);
+        sources_ = std::move(other.sources_);
     }
     return *this;
 }
 
-GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead) const {
+GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead, std::string& sources) const {
     std::vector<GLuint> shaders;
     std::string label;
+    sources.clear();
     try {
         for (const ShaderStage& stage : stages_) {
             ShaderSource source = loadShaderSource(shaderDir_, stage.fileName, &filesRead);
+            sources += source.text;
             label += (label.empty() ? "" : " + ") + source.shownPaths.front();
             shaders.push_back(compileStage(stage.type, source.text, source.shownPaths));
         }
@@ -140,9 +145,11 @@ ShaderProgram::Reload ShaderProgram::reloadIfChanged() {
     const std::string name = watched_.front().shownPath;
     std::vector<ShaderFile> filesRead;
     try {
-        GLuint rebuilt = build(filesRead);
+        std::string sources;
+        GLuint rebuilt = build(filesRead, sources);
         glDeleteProgram(id_);
         id_ = rebuilt;
+        sources_ = std::move(sources);
         watched_ = withoutRepeats(filesRead);  // an #include may have come or gone
         std::fprintf(stderr, "reloaded %s\n", name.c_str());
         return Reload::Reloaded;
@@ -163,8 +170,7 @@ ShaderProgram::Reload ShaderProgram::reloadIfChanged() {
 // the program in use for the call and then puts back the one that was, so both ways
 // leave the same state behind.
 template <class Direct, class InUse>
-static void setUniform(GLuint program, const char* name, Direct direct, InUse inUse) {
-    GLint location = glGetUniformLocation(program, name);
+static void setUniform(GLuint program, GLint location, Direct direct, InUse inUse) {
     if (GLAD_GL_VERSION_4_1) return direct(program, location);
     GLint current = 0;
     glGetIntegerv(GL_CURRENT_PROGRAM, &current);
@@ -173,41 +179,108 @@ static void setUniform(GLuint program, const char* name, Direct direct, InUse in
     if (GLuint(current) != program) glUseProgram(GLuint(current));
 }
 
+bool ShaderProgram::hasUniform(const char* name) const {
+    return glGetUniformLocation(id_, name) != -1;
+}
+
+// "shaders/NN_name/path.comp", for messages: the program is named by its first file.
+std::string ShaderProgram::name() const {
+    return watched_.empty() ? std::string("a shader program") : watched_.front().shownPath;
+}
+
+#ifndef NDEBUG
+namespace {
+
+// Whether the source declares the uniform `name` ("count", "camera.eye"): its first
+// word follows `uniform` in a declaration, and every member name after it is a word of
+// the source (a struct's member). Words, not a parser: it is there to catch typos.
+bool declaresUniform(const std::string& source, const std::string& name) {
+    std::vector<std::string> words;
+    static const std::regex word(R"([A-Za-z_]\w*)");
+    for (auto it = std::sregex_iterator(name.begin(), name.end(), word);
+         it != std::sregex_iterator(); ++it)
+        words.push_back(it->str());
+    if (words.empty()) return false;
+    if (!std::regex_search(source, std::regex(R"(\buniform\b[^;{}]*\b)" + words[0] + R"(\b)")))
+        return false;
+    for (size_t i = 1; i < words.size(); ++i)
+        if (!std::regex_search(source, std::regex(R"(\b)" + words[i] + R"(\b)")))
+            return false;
+    return true;
+}
+
+}  // namespace
+#endif
+
+GLint ShaderProgram::uniformLocation(const char* name) const {
+    const GLint location = glGetUniformLocation(id_, name);
+#ifndef NDEBUG
+    // A typo in a name would otherwise leave the uniform at zero, silently. A uniform
+    // that is declared but not read (the compiler removed it) is no mistake.
+    if (location == -1 && !declaresUniform(sources_, name))
+        fail(ExitCode::GlProblem, this->name() + ": no uniform '" + name +
+                                      "' to set: the shader does not declare it (misspelt?)");
+#endif
+    return location;
+}
+
+void ShaderProgram::bindUniformBlock(const char* blockName, GLuint binding) const {
+    const GLuint block = glGetUniformBlockIndex(id_, blockName);
+    if (block == GL_INVALID_INDEX) {
+#ifndef NDEBUG
+        if (!declaresUniform(sources_, blockName))
+            fail(ExitCode::GlProblem, name() + ": no uniform block '" + blockName +
+                                          "' to connect: the shader does not declare it "
+                                          "(misspelt?)");
+#endif
+        return;
+    }
+    glUniformBlockBinding(id_, block, binding);
+}
+
 void ShaderProgram::set(const char* name, int value) const {
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1i(p, at, value); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform1i(p, at, value); },
                [&](GLint at) { glUniform1i(at, value); });
 }
 void ShaderProgram::set(const char* name, unsigned value) const {
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1ui(p, at, value); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform1ui(p, at, value); },
                [&](GLint at) { glUniform1ui(at, value); });
 }
 void ShaderProgram::set(const char* name, float value) const {
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform1f(p, at, value); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform1f(p, at, value); },
                [&](GLint at) { glUniform1f(at, value); });
 }
 void ShaderProgram::set(const char* name, const glm::vec2& value) const {
     const float* v = glm::value_ptr(value);
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2fv(p, at, 1, v); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform2fv(p, at, 1, v); },
                [&](GLint at) { glUniform2fv(at, 1, v); });
 }
 void ShaderProgram::set(const char* name, const glm::vec3& value) const {
     const float* v = glm::value_ptr(value);
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform3fv(p, at, 1, v); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform3fv(p, at, 1, v); },
                [&](GLint at) { glUniform3fv(at, 1, v); });
 }
 void ShaderProgram::set(const char* name, const glm::vec4& value) const {
     const float* v = glm::value_ptr(value);
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform4fv(p, at, 1, v); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform4fv(p, at, 1, v); },
                [&](GLint at) { glUniform4fv(at, 1, v); });
 }
 void ShaderProgram::set(const char* name, const glm::ivec2& value) const {
     const int* v = glm::value_ptr(value);
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2iv(p, at, 1, v); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform2iv(p, at, 1, v); },
                [&](GLint at) { glUniform2iv(at, 1, v); });
 }
 void ShaderProgram::set(const char* name, const glm::uvec2& value) const {
     const unsigned* v = glm::value_ptr(value);
-    setUniform(id_, name, [&](GLuint p, GLint at) { glProgramUniform2uiv(p, at, 1, v); },
+    setUniform(id_, uniformLocation(name),
+               [&](GLuint p, GLint at) { glProgramUniform2uiv(p, at, 1, v); },
                [&](GLint at) { glUniform2uiv(at, 1, v); });
 }
 

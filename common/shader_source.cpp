@@ -37,6 +37,46 @@ std::string shownPathOf(const fs::path& file) {
     fail(ExitCode::GlProblem, where + ": " + what);
 }
 
+// A header that C++ and GLSL both read (shared.h) keeps what only C++ needs between
+// `#ifdef __cplusplus` and `#endif`: `#include <glm/glm.hpp>`, `namespace gpu {`,
+// static_asserts. GLSL's own preprocessor would skip those lines, but this one runs
+// first and resolves #include itself, so it must know them too: it passes them on as
+// blank lines (the line numbers stay) and leaves their #includes alone. The directives
+// themselves go through unchanged, so GLSL sees the same #if structure.
+//
+// One open #if, #ifdef or #ifndef of the file being read.
+struct Conditional {
+    enum Kind { Other, Cplusplus, NotCplusplus } kind;
+    bool pastElse = false;  // after its #else or an #elif
+    bool passedOn = true;   // its directives reach GLSL (it is not inside C++-only lines)
+    int line = 0;
+};
+
+// What an #if / #ifdef / #ifndef line tests: `__cplusplus` (#ifdef __cplusplus,
+// #if defined(__cplusplus)), its negation, or anything else.
+Conditional::Kind kindOf(const std::string& directive, std::string condition) {
+    condition = condition.substr(0, condition.find("//"));  // `#ifdef __cplusplus // ...`
+    static const std::regex defined(
+        R"(^\s*(!\s*)?defined\s*(\(\s*__cplusplus\s*\)|\s__cplusplus)\s*$)");
+    static const std::regex name(R"(^\s*__cplusplus\s*$)");
+    std::smatch match;
+    if (directive == "ifdef" || directive == "ifndef") {
+        if (!std::regex_match(condition, name)) return Conditional::Other;
+        return directive == "ifdef" ? Conditional::Cplusplus : Conditional::NotCplusplus;
+    }
+    if (!std::regex_match(condition, match, defined)) return Conditional::Other;
+    return match[1].matched ? Conditional::NotCplusplus : Conditional::Cplusplus;
+}
+
+// Is a line at this point for the C++ compiler only?
+bool insideCplusplusOnly(const std::vector<Conditional>& open) {
+    for (const Conditional& c : open)
+        if ((c.kind == Conditional::Cplusplus && !c.pastElse) ||
+            (c.kind == Conditional::NotCplusplus && c.pastElse))
+            return true;
+    return false;
+}
+
 struct Preprocessor {
     fs::path folder;
     ShaderSource result;
@@ -67,13 +107,39 @@ struct Preprocessor {
 
         static const std::regex includeLine(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
         static const std::regex badInclude(R"(^\s*#\s*include\b.*)");
+        static const std::regex conditional(
+            R"(^\s*#\s*(if|ifdef|ifndef|elif|else|endif)\b(.*)$)");
         std::istringstream lines(text);
         std::string line;
         bool sawVersion = false;
+        std::vector<Conditional> open;  // this file's #if nesting
         for (int lineNumber = 1; std::getline(lines, line); ++lineNumber) {
             if (!line.empty() && line.back() == '\r') line.pop_back();
             const std::string here = shownPathOf(file) + ":" + std::to_string(lineNumber);
+            if (depth > 0 && lineNumber >= kLinesPerFile)
+                shaderFailure(here, "an included file may have at most 9999 lines");
             std::smatch match;
+            const bool cplusplusOnly = insideCplusplusOnly(open);
+            if (std::regex_match(line, match, conditional)) {
+                const std::string directive = match[1].str();
+                bool passedOn = !cplusplusOnly;
+                if (directive == "if" || directive == "ifdef" || directive == "ifndef") {
+                    open.push_back({kindOf(directive, match[2].str()), false, passedOn,
+                                    lineNumber});
+                } else if (!open.empty()) {
+                    passedOn = open.back().passedOn;
+                    if (directive == "endif")
+                        open.pop_back();
+                    else
+                        open.back().pastElse = true;
+                }
+                result.text += (passedOn ? line : std::string()) + "\n";
+                continue;
+            }
+            if (cplusplusOnly) {
+                result.text += "\n";  // for C++ only: blank, so that the lines still count
+                continue;
+            }
             if (std::regex_match(line, match, includeLine)) {
                 fs::path included = folder / match[1].str();
                 append(included.lexically_normal(), here, depth + 1);
@@ -82,12 +148,15 @@ struct Preprocessor {
                 continue;
             }
             if (std::regex_match(line, badInclude))
-                shaderFailure(here, "#include needs a quoted file name: " + line);
+                shaderFailure(here, "#include needs a quoted file name: " + line +
+                                        " (a C++ header goes inside #ifdef __cplusplus)");
             if (line.find("#version") != std::string::npos) sawVersion = true;
-            if (depth > 0 && lineNumber >= kLinesPerFile)
-                shaderFailure(here, "an included file may have at most 9999 lines");
             result.text += line + "\n";
         }
+        for (const Conditional& c : open)
+            if (c.kind != Conditional::Other)
+                shaderFailure(shownPathOf(file) + ":" + std::to_string(c.line),
+                              "this #if on __cplusplus has no #endif in the same file");
         if (depth == 0 && !sawVersion)
             shaderFailure(shownPathOf(file) + ":1", "the shader has no #version line");
         includeStack.pop_back();

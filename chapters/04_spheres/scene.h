@@ -1,10 +1,7 @@
 // The built-in scenes of this chapter, chosen with --scene NAME.
 #pragma once
-#include <cstddef>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "shared.h"  // gpu::Sphere, laid out as the shader reads it
 

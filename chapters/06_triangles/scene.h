@@ -1,6 +1,5 @@
 // The built-in scenes of this chapter, chosen with --scene NAME.
 #pragma once
-#include <cstddef>
 #include <string>
 #include <vector>
 

@@ -2,7 +2,6 @@
 // renders without settings: a camera that frames it, a floor under it, a light above.
 // python_prototypes/reference/mesh_scene.py builds the same scene for the checks.
 #pragma once
-#include <cstddef>
 #include <string>
 #include <vector>
 

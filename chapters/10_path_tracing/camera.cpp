@@ -30,11 +30,13 @@ Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength
 }
 // --8<-- [end:basis]
 
-void setCamera(const course::ShaderProgram& program, const Camera& camera) {
-    program.set("camera.eye", camera.eye);
-    program.set("camera.forward", camera.forward);
-    program.set("camera.right", camera.right);
-    program.set("camera.up", camera.up);
-    program.set("camera.focalLength", camera.focalLength);
-    program.set("camera.sensorWidth", camera.sensorWidth);
+gpu::PinholeCamera pinholeCamera(const Camera& camera) {
+    gpu::PinholeCamera pinhole{};
+    pinhole.eye = camera.eye;
+    pinhole.forward = camera.forward;
+    pinhole.right = camera.right;
+    pinhole.up = camera.up;
+    pinhole.focalLength = camera.focalLength;
+    pinhole.sensorWidth = camera.sensorWidth;
+    return pinhole;
 }

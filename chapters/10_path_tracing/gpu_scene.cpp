@@ -8,23 +8,21 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-glm::uvec4 info(uint32_t material) { return {material, NO_EMITTER, 0u, 0u}; }
-
 // Every shape with a glowing material joins the emitter list; the shape remembers its
 // place there, so that a ray hitting it can ask how likely light sampling was to pick it.
-void addEmitter(GpuScene& gpu, const course::SceneFile& scene, glm::uvec4& shapeInfo, uint32_t kind,
-                size_t index, float area) {
-    if (!scene.materials[shapeInfo.x].emits()) return;
-    shapeInfo.y = static_cast<uint32_t>(gpu.emitters.size());
+uint32_t addEmitter(GpuScene& gpu, const course::SceneFile& scene, uint32_t material,
+                    uint32_t kind, size_t index, float area) {
+    if (!scene.materials[material].emits()) return NO_EMITTER;
     gpu.emitters.push_back({kind, static_cast<uint32_t>(index), area, 0.0f});
+    return static_cast<uint32_t>(gpu.emitters.size() - 1);
 }
 
 void addTriangle(GpuScene& gpu, const course::SceneFile& scene, glm::vec3 a, glm::vec3 b,
                  glm::vec3 c, uint32_t material) {
-    gpu::Triangle triangle{glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0), info(material)};
     float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-    addEmitter(gpu, scene, triangle.info, SHAPE_TRIANGLE, gpu.triangles.size(), area);
-    gpu.triangles.push_back(triangle);
+    uint32_t emitter =
+        addEmitter(gpu, scene, material, SHAPE_TRIANGLE, gpu.triangles.size(), area);
+    gpu.triangles.push_back({a, material, b, emitter, c, 0u});
 }
 
 }  // namespace
@@ -37,19 +35,18 @@ GpuScene packScene(const course::SceneFile& scene) {
     auto grow = [&](glm::vec3 p) { low = glm::min(low, p); high = glm::max(high, p); };
 
     for (const course::SceneSphere& s : scene.spheres) {
-        gpu::Sphere sphere{glm::vec4(s.center, s.radius), info(s.material)};
         float area = 4.0f * kPi * s.radius * s.radius;
-        addEmitter(gpu, scene, sphere.info, SHAPE_SPHERE, gpu.spheres.size(), area);
-        gpu.spheres.push_back(sphere);
+        uint32_t emitter =
+            addEmitter(gpu, scene, s.material, SHAPE_SPHERE, gpu.spheres.size(), area);
+        gpu.spheres.push_back({s.center, s.radius, s.material, emitter, 0u, 0u});
         grow(s.center - s.radius);
         grow(s.center + s.radius);
     }
     for (const course::SceneQuad& q : scene.quads) {
-        gpu::Quad quad{glm::vec4(q.origin, 0), glm::vec4(q.edge1, 0), glm::vec4(q.edge2, 0),
-                       info(q.material)};
         float area = glm::length(glm::cross(q.edge1, q.edge2));
-        addEmitter(gpu, scene, quad.info, SHAPE_QUAD, gpu.quads.size(), area);
-        gpu.quads.push_back(quad);
+        uint32_t emitter =
+            addEmitter(gpu, scene, q.material, SHAPE_QUAD, gpu.quads.size(), area);
+        gpu.quads.push_back({q.origin, q.material, q.edge1, emitter, q.edge2, 0u});
         grow(q.origin);
         grow(q.origin + q.edge1 + q.edge2);
         grow(q.origin + q.edge1);

@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "course/scene_file.h"
 #include "shared.h"  // the gpu:: structs, laid out as the shaders read them
 

@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "bvh.h"
 #include "course/scene_file.h"
 #include "obj_loader.h"

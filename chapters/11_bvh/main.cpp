@@ -112,38 +112,40 @@ int main(int argc, char** argv) {
 
         // --8<-- [start:dispatch]
         // 3. Chapter 09's seeding and progressive loop, with the path tracer as the
-        //    sample. The uniforms are set for every dispatch: a hot-reloaded program
-        //    starts without them, and the fly camera may have moved.
+        //    sample. What a dispatch reads besides the buffers is one uniform block,
+        //    gpu::PathParameters (shared.h), written before each dispatch: the sample
+        //    count grows, and the fly camera may have moved.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram& path = session.loadCompute("path.comp");
         const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
-        const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
-                                : estimator == "bsdf" ? ESTIMATOR_BSDF
-                                                      : ESTIMATOR_MIS;
-        const int viewId = view == "normals"    ? VIEW_NORMALS
-                           : view == "distance" ? VIEW_DISTANCE
-                           : view == "cost"     ? VIEW_COST
-                           : view == "bounce"   ? VIEW_BOUNCE
-                                                : VIEW_RADIANCE;
+        gpu::PathParameters parameters{};
+        parameters.imageSize = glm::uvec2(width, height);
+        parameters.seed = options.seed;
+        parameters.maxBounces = depth;
+        parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF
+                                                     : ESTIMATOR_MIS;
+        parameters.view = view == "normals"    ? VIEW_NORMALS
+                          : view == "distance" ? VIEW_DISTANCE
+                          : view == "cost"     ? VIEW_COST
+                          : view == "bounce"   ? VIEW_BOUNCE
+                                               : VIEW_RADIANCE;
+        parameters.occlusionDistance = 0.25f * scene.size;
+        parameters.bruteForce = bruteForce;
+        course::GpuBuffer parameterBuffer(sizeof parameters);
+        parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;
         auto addSample = [&] {
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // read what the last wrote
-            setCamera(path, makeCamera(fly.eye, fly.forward(), c.up, c.focalLength,
-                                       c.sensorWidth));
-            path.set("imageSize", glm::uvec2(width, height));
-            path.set("maxBounces", depth);
-            path.set("estimator", estimatorId);
-            path.set("bruteForce", bruteForce);
-            path.set("view", viewId);
-            path.set("occlusionDistance", 0.25f * scene.size);
-            path.set("sampleIndex", samples++);
+            parameters.camera = pinholeCamera(
+                makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth));
+            parameters.sampleIndex = samples++;
+            parameterBuffer.write(&parameters, sizeof parameters);
             path.dispatchCovering(width, height);
         };
         auto render = [&] {
-            seed.set("imageSize", glm::uvec2(width, height));
-            seed.set("seed", unsigned(options.seed));
-            seed.set("naiveSeeding", 0);
+            parameterBuffer.write(&parameters, sizeof parameters);
             seed.dispatchCovering(width, height);
             samples = 0;
             for (int batch = 0; batch < batches; ++batch) {

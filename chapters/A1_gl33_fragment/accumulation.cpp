@@ -74,7 +74,8 @@ void Accumulation::draw(const course::ShaderProgram& program) {
     for (int output = 0; output < 3; ++output) {
         glActiveTexture(GL_TEXTURE0 + kUnits[output]);
         glBindTexture(GL_TEXTURE_2D, previous.textures[output]);
-        program.set(kSamplers[output], int(kUnits[output]));
+        if (program.hasUniform(kSamplers[output]))  // seed.frag reads none of them
+            program.set(kSamplers[output], int(kUnits[output]));
     }
     glBindFramebuffer(GL_FRAMEBUFFER, next.framebuffer);
     glViewport(0, 0, width_, height_);

@@ -3,7 +3,7 @@
 #pragma once
 #include <glm/glm.hpp>
 
-#include "course/shader_program.h"
+#include "shared.h"  // gpu::PinholeCamera
 
 // Where the camera is and how it is built: the conventions of
 // python_prototypes/camera_rays.py, which the chapter 03 check compares ray by ray.
@@ -19,5 +19,5 @@ struct Camera {
 Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
                   float sensorWidth);
 
-// Sets the `camera` uniform struct of camera.glsl.
-void setCamera(const course::ShaderProgram& program, const Camera& camera);
+// The camera as the PathParameters uniform block holds it (shared.h).
+gpu::PinholeCamera pinholeCamera(const Camera& camera);

@@ -53,7 +53,7 @@ GpuScene packScene(const course::SceneFile& scene) {
         gpu.texels.insert(gpu.texels.end(), texels);
     };
 
-    block.firstTexel.x = 0;
+    block.firstSphereTexel = 0;
     for (size_t i = 0; i < scene.spheres.size(); ++i) {
         const course::SceneSphere& s = scene.spheres[i];
         int64_t emitter = addEmitter(emitters, scene, s.material, SHAPE_SPHERE, i,
@@ -62,7 +62,7 @@ GpuScene packScene(const course::SceneFile& scene) {
         grow(s.center - s.radius);
         grow(s.center + s.radius);
     }
-    block.firstTexel.y = uint32_t(gpu.texels.size());
+    block.firstQuadTexel = uint32_t(gpu.texels.size());
     for (size_t i = 0; i < scene.quads.size(); ++i) {
         const course::SceneQuad& q = scene.quads[i];
         int64_t emitter = addEmitter(emitters, scene, q.material, SHAPE_QUAD, i,
@@ -74,7 +74,7 @@ GpuScene packScene(const course::SceneFile& scene) {
         grow(q.origin + q.edge1);
         grow(q.origin + q.edge2);
     }
-    block.firstTexel.z = uint32_t(gpu.texels.size());
+    block.firstTriangleTexel = uint32_t(gpu.texels.size());
     size_t triangles = 0;
     auto addTriangle = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
         int64_t emitter = addEmitter(emitters, scene, material, SHAPE_TRIANGLE, triangles++,
@@ -98,8 +98,10 @@ GpuScene packScene(const course::SceneFile& scene) {
     if (emitters.size() > MAX_EMITTERS)
         tooMany(scene, emitters.size(), "emitting shapes", MAX_EMITTERS, "MAX_EMITTERS");
     std::copy(emitters.begin(), emitters.end(), block.emitters);
-    block.shapeCounts = glm::uvec4(scene.spheres.size(), scene.quads.size(), triangles,
-                                   emitters.size());
+    block.sphereCount = uint32_t(scene.spheres.size());
+    block.quadCount = uint32_t(scene.quads.size());
+    block.triangleCount = uint32_t(triangles);
+    block.emitterCount = uint32_t(emitters.size());
     gpu.size = glm::length(high - low);
     return gpu;
 }

@@ -19,7 +19,7 @@ struct GpuScene {
     float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
 
     size_t shapeCount() const {
-        return size_t(block->shapeCounts.x) + block->shapeCounts.y + block->shapeCounts.z;
+        return size_t(block->sphereCount) + block->quadCount + block->triangleCount;
     }
 };
 

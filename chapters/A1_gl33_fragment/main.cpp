@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
                                  2 * (size_t(depth) + 1), "A lower --depth renders it.",
                                  GL_FRAGMENT_SHADER});
         session.stats().set("shapes", double(scene.shapeCount()));
-        session.stats().set("emitters", double(scene.block->shapeCounts.w));
+        session.stats().set("emitters", double(scene.block->emitterCount));
 
         // --8<-- [start:upload]
         // 2. The scene in a buffer texture and a uniform buffer; the two framebuffers
@@ -78,32 +78,37 @@ int main(int argc, char** argv) {
         // --8<-- [end:upload]
 
         // --8<-- [start:passes]
-        // 3. Chapter 10's seeding and progressive loop, a pass where it had a dispatch.
-        //    The uniforms are set for every pass: a hot-reloaded program starts without
-        //    them, and the fly camera may have moved.
+        // 3. Chapter 10's seeding and progressive loop, a pass where it had a dispatch,
+        //    and its PathParameters block, written before each pass. The blocks are
+        //    connected by name every pass: a hot-reloaded program starts without that.
         course::ShaderProgram& seed = session.loadProgram(
             {{GL_FRAGMENT_SHADER, "seed.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
         course::ShaderProgram& path = session.loadProgram(
             {{GL_FRAGMENT_SHADER, "path.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
         const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
-        const int estimatorId = estimator == "nee"    ? ESTIMATOR_NEE
-                                : estimator == "bsdf" ? ESTIMATOR_BSDF
-                                                      : ESTIMATOR_MIS;
+        gpu::PathParameters parameters{};
+        parameters.imageSize = glm::uvec2(width, height);
+        parameters.seed = options.seed;
+        parameters.maxBounces = depth;
+        parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF
+                                                     : ESTIMATOR_MIS;
+        course::GpuBuffer parameterBuffer(sizeof parameters);
+        parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;
         auto addSample = [&] {
-            setCamera(path, makeCamera(fly.eye, fly.forward(), c.up, c.focalLength,
-                                       c.sensorWidth));
-            path.set("imageSize", glm::uvec2(width, height));
-            path.set("maxBounces", depth);
-            path.set("estimator", estimatorId);
-            path.set("sampleIndex", samples++);
+            parameters.camera = pinholeCamera(
+                makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth));
+            parameters.sampleIndex = samples++;
+            parameterBuffer.write(&parameters, sizeof parameters);
+            path.bindUniformBlock("PathParameters", PARAMETERS_BINDING);
             sceneBuffers.bind(path);
             accumulation.draw(path);  // no barrier: GL orders draws and texture reads
         };
         auto render = [&] {
-            seed.set("imageSize", glm::uvec2(width, height));
-            seed.set("seed", unsigned(options.seed));
+            parameterBuffer.write(&parameters, sizeof parameters);
+            seed.bindUniformBlock("PathParameters", PARAMETERS_BINDING);
             accumulation.draw(seed);
             samples = 0;
             for (int batch = 0; batch < batches; ++batch) {

@@ -1,6 +1,6 @@
-// A shader storage buffer (SSBO) that frees itself. Move-only, like the GL object it
-// owns. Sizes are checked against what the driver allows, so a too-large scene fails
-// with a message instead of a black picture.
+// A GPU buffer that frees itself: a shader storage buffer (SSBO) or a uniform buffer.
+// Move-only, like the GL object it owns. Sizes are checked against what the driver
+// allows, so a too-large scene fails with a message instead of a black picture.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -25,6 +25,9 @@ public:
 
     // Makes the buffer visible to shaders as `layout(std430, binding = N) buffer`.
     void bindStorage(GLuint binding) const;
+    // Makes the buffer the uniform block at binding point N: `layout(std140, binding = N)
+    // uniform`, or a block that ShaderProgram::bindUniformBlock connected to N (GL 3.3).
+    void bindUniform(GLuint binding) const;
     void write(const void* data, size_t bytes, size_t offset = 0);
     void read(void* data, size_t bytes, size_t offset = 0) const;
     template <class T>

@@ -32,7 +32,12 @@ public:
     void use() const { glUseProgram(id_); }
     GLuint id() const { return id_; }
 
-    // Uniforms by name; a name the compiler optimised away is silently ignored.
+    // Uniforms by name. GL ignores a name the program has no active uniform for; in a
+    // debug build (no NDEBUG) a name its source does not even declare, a misspelt one,
+    // is exit code 4, naming the uniform and the program's file. (A declared uniform
+    // that the shader does not read, which the compiler removes, is still ignored: a
+    // starter's stub may not read it yet.) Per-dispatch values are better one typed
+    // uniform block, a struct shared with C++ through shared.h: GpuBuffer::bindUniform.
     void set(const char* name, int value) const;
     void set(const char* name, unsigned value) const;
     void set(const char* name, float value) const;
@@ -41,6 +46,14 @@ public:
     void set(const char* name, const glm::vec4& value) const;
     void set(const char* name, const glm::ivec2& value) const;
     void set(const char* name, const glm::uvec2& value) const;
+    // Whether the program has this active uniform, for code that serves several
+    // programs and sets only what each one uses.
+    bool hasUniform(const char* name) const;
+    // GLSL 3.30 has no layout(binding = N) for a uniform block: this connects the block
+    // called `blockName` to binding point N by name. A new program starts unconnected,
+    // so call it after every (re)link, e.g. before each pass. A block the source does
+    // not declare is exit code 4 in a debug build, as for set().
+    void bindUniformBlock(const char* blockName, GLuint binding) const;
 
     // Work groups of a compute shader, as declared by its local_size layout.
     glm::ivec3 workGroupSize() const;
@@ -58,12 +71,16 @@ public:
     std::vector<std::string> watchedFiles() const;
 
 private:
-    GLuint build(std::vector<ShaderFile>& filesRead) const;  // throws Failure(GlProblem)
+    // Throws Failure(GlProblem); `sources` gets the text each stage was compiled from.
+    GLuint build(std::vector<ShaderFile>& filesRead, std::string& sources) const;
+    GLint uniformLocation(const char* name) const;  // checked in debug builds
+    std::string name() const;                        // for messages
 
     GLuint id_ = 0;
     std::string shaderDir_;
     std::vector<ShaderStage> stages_;
     std::vector<ShaderFile> watched_;  // every file read, includes too, as last read
+    std::string sources_;              // the stages' preprocessed text, for name checks
 };
 
 // Compiles and links program text that lives in C++ (the window display); errors name

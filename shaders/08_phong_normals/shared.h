@@ -1,7 +1,7 @@
 // Numbers and structs the C++ host and the GLSL shaders must agree on. Both sides read
 // this one file: GLSL sees the struct as it is, C++ sees it in namespace gpu with glm's
-// vector types. (C++ files include <glm/glm.hpp> and <cstddef> first: this file may not
-// #include anything, because the shader loader looks for includes in this folder.)
+// vector types. The lines only C++ reads, its #includes among them, stand inside
+// `#ifdef __cplusplus`, which the course's shader loader passes over.
 #ifndef COURSE_SHARED_H
 #define COURSE_SHARED_H
 
@@ -24,6 +24,8 @@
 #define TILE_SIZE 8
 
 #ifdef __cplusplus
+#include <cstddef>      // offsetof, for the static_asserts
+#include <glm/glm.hpp>  // the vector types
 namespace gpu {
 using uint = glm::uint;
 using uvec3 = glm::uvec3;

@@ -22,10 +22,10 @@ struct Hit {
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
-bool hitSphere(Ray ray, vec4 centerRadius, float tMin, float tMax, out float t) {
-    vec3 toOrigin = ray.origin - centerRadius.xyz;
+bool hitSphere(Ray ray, Sphere sphere, float tMin, float tMax, out float t) {
+    vec3 toOrigin = ray.origin - sphere.center;
     float halfB = dot(toOrigin, ray.direction);
-    float c = dot(toOrigin, toOrigin) - centerRadius.w * centerRadius.w;
+    float c = dot(toOrigin, toOrigin) - sphere.radius * sphere.radius;
     float discriminant = halfB * halfB - c;
     if (discriminant < 0.0) return false;
     float root = sqrt(discriminant);
@@ -40,29 +40,29 @@ bool hitSphere(Ray ray, vec4 centerRadius, float tMin, float tMax, out float t) 
 
 // Where the ray meets the quad's plane, if the point is inside the parallelogram.
 bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
-    vec3 normal = cross(quad.edge1.xyz, quad.edge2.xyz);
+    vec3 normal = cross(quad.edge1, quad.edge2);
     float facing = dot(normal, ray.direction);
     if (abs(facing) < 1e-20) return false;  // parallel to the plane
-    t = dot(normal, quad.origin.xyz - ray.origin) / facing;
+    t = dot(normal, quad.origin - ray.origin) / facing;
     if (!(t > tMin && t < tMax)) return false;
     // The point's coordinates along the two edges, each in [0, 1] inside: solve
     // p = origin + a edge1 + b edge2 with the dual vectors of the edges.
-    vec3 p = ray.origin + t * ray.direction - quad.origin.xyz;
+    vec3 p = ray.origin + t * ray.direction - quad.origin;
     vec3 w = normal / dot(normal, normal);
-    float a = dot(w, cross(p, quad.edge2.xyz));
-    float b = dot(w, cross(quad.edge1.xyz, p));
+    float a = dot(w, cross(p, quad.edge2));
+    float b = dot(w, cross(quad.edge1, p));
     return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
 }
 
 // Moller-Trumbore, both sides (chapter 06).
 bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
-    vec3 edge1 = triangle.p1.xyz - triangle.p0.xyz;
-    vec3 edge2 = triangle.p2.xyz - triangle.p0.xyz;
+    vec3 edge1 = triangle.p1 - triangle.p0;
+    vec3 edge2 = triangle.p2 - triangle.p0;
     vec3 p = cross(ray.direction, edge2);
     float determinant = dot(edge1, p);
     if (abs(determinant) < 1e-20) return false;
     float inverse = 1.0 / determinant;
-    vec3 toOrigin = ray.origin - triangle.p0.xyz;
+    vec3 toOrigin = ray.origin - triangle.p0;
     float u = dot(toOrigin, p) * inverse;
     if (u < 0.0 || u > 1.0) return false;
     vec3 q = cross(toOrigin, edge1);
@@ -72,11 +72,11 @@ bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t
     return t > tMin && t < tMax;
 }
 
-// Fills in a hit from the shape's front normal and its info (material, emitter).
-Hit makeHit(Ray ray, float t, vec3 frontNormal, uvec4 info) {
+// Fills in a hit from the shape's front normal, material and emitter.
+Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
     return Hit(t, ray.origin + t * ray.direction, normal,
-               dot(normal, ray.direction) < 0.0, info.x, info.y);
+               dot(normal, ray.direction) < 0.0, material, emitter);
 }
 
 // --8<-- [start:nearest]
@@ -85,7 +85,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
     for (int i = 0; i < spheres.length(); ++i)
-        if (hitSphere(ray, spheres[i].centerRadius, tMin, tMax, t)) {
+        if (hitSphere(ray, spheres[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
         }
     for (int i = 0; i < quads.length(); ++i)
@@ -99,15 +99,15 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = spheres[index];
-        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.centerRadius.xyz,
-                      s.info);
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material,
+                      s.emitter);
     } else if (kind == SHAPE_QUAD) {
         Quad q = quads[index];
-        hit = makeHit(ray, tMax, cross(q.edge1.xyz, q.edge2.xyz), q.info);
+        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
         Triangle tr = triangles[index];
-        hit = makeHit(ray, tMax, cross(tr.p1.xyz - tr.p0.xyz, tr.p2.xyz - tr.p0.xyz),
-                      tr.info);
+        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
+                      tr.emitter);
     }
     return kind >= 0;
 }
@@ -117,7 +117,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
     for (int i = 0; i < spheres.length(); ++i)
-        if (hitSphere(ray, spheres[i].centerRadius, tMin, tMax, t)) return true;
+        if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
     for (int i = 0; i < triangles.length(); ++i)

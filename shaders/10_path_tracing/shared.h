@@ -1,7 +1,7 @@
 // Numbers and structs the C++ host and the GLSL shaders must agree on. Both sides read
 // this one file: GLSL sees the structs as they are, C++ sees them in namespace gpu with
-// glm's vector types. (C++ files include <glm/glm.hpp> and <cstddef> first: this file
-// may not #include anything, because the shader loader looks for includes in this folder.)
+// glm's vector types. The lines only C++ reads, its #includes among them, stand inside
+// `#ifdef __cplusplus`, which the course's shader loader passes over.
 #ifndef COURSE_SHARED_H
 #define COURSE_SHARED_H
 
@@ -13,6 +13,9 @@
 #define MATERIALS_BINDING 5  // albedo and emission, picked by each shape's `material`
 #define EMITTERS_BINDING 6   // the shapes that emit: what next-event estimation samples
 #define RAY_COUNT_BINDING 7  // rays traced by each pixel so far, for the --json stats
+
+// Uniform buffers have binding points of their own, apart from storage buffers'.
+#define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
 
 // Which estimator of the light arriving at a surface (--estimator).
 #define ESTIMATOR_NEE 0   // sample the lights only (next-event estimation)
@@ -38,30 +41,43 @@
 #define TILE_SIZE 8
 
 #ifdef __cplusplus
+#include <cstddef>      // offsetof, for the static_asserts
+#include <glm/glm.hpp>  // the vector types
 namespace gpu {
 using uint = glm::uint;
-using uvec4 = glm::uvec4;
+using uvec2 = glm::uvec2;
+using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 #endif
 
 // --8<-- [start:structs]
-// Every struct is built from vec4s and uvec4s: std430 aligns a vec3 to 16 bytes, and
-// glm::vec3 is 12 bytes, so a vec3 member would shift everything after it.
+// std430 aligns a vec3 to 16 bytes but gives it only 12, so the number after each vec3
+// fills its fourth slot: exactly where C++ puts it after a 12-byte glm::vec3. Each shape
+// names its material (an index into the materials) and its emitter (its index in the
+// emitter list, or NO_EMITTER).
 struct Sphere {
-    vec4 centerRadius;  // xyz the centre, w the radius
-    uvec4 info;         // x material, y emitter index or NO_EMITTER; z, w unused
+    vec3 center;
+    float radius;
+    uint material;
+    uint emitter;
+    uint unused0;  // std430 rounds the struct up to a multiple of 16 bytes, its
+    uint unused1;  // alignment: these give C++ the same 32
 };
-struct Quad {           // corners origin, origin + edge1, origin + edge1 + edge2, ...
-    vec4 origin;        // w unused
-    vec4 edge1;
-    vec4 edge2;         // the front is the side cross(edge1, edge2) points to
-    uvec4 info;         // as Sphere::info
+struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin + edge2
+    vec3 origin;
+    uint material;
+    vec3 edge1;
+    uint emitter;
+    vec3 edge2;  // the front is the side cross(edge1, edge2) points to
+    uint unused;
 };
-struct Triangle {       // the front is where the corners run counter-clockwise
-    vec4 p0;            // w unused
-    vec4 p1;
-    vec4 p2;
-    uvec4 info;         // as Sphere::info
+struct Triangle {  // the front is where the corners run counter-clockwise
+    vec3 p0;
+    uint material;
+    vec3 p1;
+    uint emitter;
+    vec3 p2;
+    uint unused;
 };
 struct Material {
     vec4 albedo;    // rgb: the reflected fraction of the light (Lambertian)
@@ -75,12 +91,67 @@ struct Emitter {
 };
 // --8<-- [end:structs]
 
+// --8<-- [start:parameters]
+// The pinhole camera of chapter 03: eye, forward, right and up (unit vectors at right
+// angles), as the host computes them once per image (camera.cpp).
+struct PinholeCamera {
+    vec3 eye;
+    float focalLength;  // eye to sensor, in metres
+    vec3 forward;
+    float sensorWidth;  // in metres; the height follows from the image's shape
+    vec3 right;
+    uint unused0;
+    vec3 up;
+    uint unused1;
+};
+
+// What a dispatch reads besides the buffers, as one std140 uniform block: the host
+// fills this struct and uploads it before each dispatch, and GLSL sees its members as
+// global names (camera, imageSize, ...). A misspelt name fails to compile on either
+// side, where a misspelt glUniform name would set nothing and say nothing.
 #ifdef __cplusplus
-static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, info) == 16, "std430 Sphere");
-static_assert(sizeof(Quad) == 64 && offsetof(Quad, info) == 48, "std430 Quad");
-static_assert(sizeof(Triangle) == 64 && offsetof(Triangle, info) == 48, "std430 Triangle");
+struct PathParameters {
+#else
+layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
+#endif
+    PinholeCamera camera;
+    uvec2 imageSize;
+    uint seed;         // --seed, for seed.comp
+    uint sampleIndex;  // how many samples the image's mean holds already
+    int maxBounces;    // --depth: 1 is direct light only
+    int estimator;     // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
+    uint unused2;      // std140 rounds a block up to 16 bytes as well
+    uint unused3;
+};
+// --8<-- [end:parameters]
+
+#ifdef __cplusplus
+// The offsets GLSL's std430 (buffers) and std140 (the block) rules give; a C++ struct
+// that differs would scramble the scene or the camera silently, so the compiler checks.
+static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, radius) == 12 &&
+                  offsetof(Sphere, material) == 16 && offsetof(Sphere, emitter) == 20,
+              "std430 Sphere");
+static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
+                  offsetof(Quad, edge1) == 16 && offsetof(Quad, emitter) == 28 &&
+                  offsetof(Quad, edge2) == 32 && offsetof(Quad, unused) == 44,
+              "std430 Quad: each uint fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, material) == 12 &&
+                  offsetof(Triangle, p1) == 16 && offsetof(Triangle, emitter) == 28 &&
+                  offsetof(Triangle, p2) == 32 && offsetof(Triangle, unused) == 44,
+              "std430 Triangle: each uint fills the fourth slot of the vec3 before it");
 static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std430 Material");
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std430 Emitter");
+static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
+                  offsetof(PinholeCamera, forward) == 16 &&
+                  offsetof(PinholeCamera, sensorWidth) == 28 &&
+                  offsetof(PinholeCamera, right) == 32 && offsetof(PinholeCamera, up) == 48,
+              "std140 PinholeCamera: each number fills the fourth slot of a vec3");
+static_assert(offsetof(PathParameters, imageSize) == 64 &&
+                  offsetof(PathParameters, seed) == 72 &&
+                  offsetof(PathParameters, sampleIndex) == 76 &&
+                  offsetof(PathParameters, maxBounces) == 80 &&
+                  offsetof(PathParameters, estimator) == 84 && sizeof(PathParameters) == 96,
+              "std140 PathParameters");
 }  // namespace gpu
 #endif
 

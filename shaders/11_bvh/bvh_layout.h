@@ -1,8 +1,8 @@
 // The bounding volume hierarchy as the GPU reads it: one struct and a few numbers that
 // the C++ builder (bvh.cpp) and the GLSL traversal (bvh_traversal.glsl) must agree on.
 // Both sides read this one file, like shared.h (which includes it): GLSL sees the struct
-// as it is, C++ sees it in namespace gpu with glm's types.
-// (C++ files include <glm/glm.hpp> and <cstddef> first: GLSL has no such headers.)
+// as it is, C++ sees it in namespace gpu with glm's types, and the includes it needs
+// inside `#ifdef __cplusplus`, which the course's shader loader passes over.
 #ifndef COURSE_BVH_LAYOUT_H
 #define COURSE_BVH_LAYOUT_H
 
@@ -20,6 +20,8 @@
 // --8<-- [end:limits]
 
 #ifdef __cplusplus
+#include <cstddef>      // offsetof, for the static_asserts
+#include <glm/glm.hpp>  // the vector types
 namespace gpu {
 using uint = glm::uint;
 using vec3 = glm::vec3;

@@ -14,12 +14,8 @@ layout(std430, binding = PIXELS_BINDING) buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
-uniform uvec2 imageSize;
-uniform uint sampleIndex;        // how many samples the image's mean holds already
-uniform int maxBounces;          // --depth: 1 is direct light only
-uniform int estimator;           // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
-uniform int view;                // VIEW_RADIANCE, VIEW_NORMALS, ... (--view)
-uniform float occlusionDistance; // VIEW_BOUNCE: a bounce ray going farther is "open"
+// imageSize, sampleIndex, maxBounces (--depth), estimator and the camera come in the
+// PathParameters uniform block (shared.h), and so do view and occlusionDistance.
 
 // VIEW_BOUNCE: where each pixel's camera ray hit (w = 1) or that it hit nothing (w = 0),
 // found by the first dispatch; every dispatch then traces one random ray from there.

@@ -46,24 +46,24 @@ LightPoint sampleEmitter(Emitter emitter, vec2 u) {
     uint material;
     if (emitter.shape == SHAPE_QUAD) {
         Quad q = quads[emitter.index];
-        light.position = q.origin.xyz + u.x * q.edge1.xyz + u.y * q.edge2.xyz;
-        light.normal = normalize(cross(q.edge1.xyz, q.edge2.xyz));
-        material = q.info.x;
+        light.position = q.origin + u.x * q.edge1 + u.y * q.edge2;
+        light.normal = normalize(cross(q.edge1, q.edge2));
+        material = q.material;
     } else if (emitter.shape == SHAPE_TRIANGLE) {
         Triangle t = triangles[emitter.index];
         // sqrt spreads the points evenly: without it they bunch up at p0.
         float s = sqrt(u.x);
-        light.position = (1.0 - s) * t.p0.xyz + s * (1.0 - u.y) * t.p1.xyz + s * u.y * t.p2.xyz;
-        light.normal = normalize(cross(t.p1.xyz - t.p0.xyz, t.p2.xyz - t.p0.xyz));
-        material = t.info.x;
+        light.position = (1.0 - s) * t.p0 + s * (1.0 - u.y) * t.p1 + s * u.y * t.p2;
+        light.normal = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+        material = t.material;
     } else {
         // Uniform on the whole sphere; points on the far side face away and add nothing.
         Sphere s = spheres[emitter.index];
         float z = 1.0 - 2.0 * u.x, r = sqrt(max(0.0, 1.0 - z * z));
         float angle = 2.0 * PI * u.y;
         light.normal = vec3(r * cos(angle), r * sin(angle), z);
-        light.position = s.centerRadius.xyz + s.centerRadius.w * light.normal;
-        material = s.info.x;
+        light.position = s.center + s.radius * light.normal;
+        material = s.material;
     }
     light.emission = materials[material].emission.rgb;
     return light;

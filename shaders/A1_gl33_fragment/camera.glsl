@@ -8,16 +8,7 @@ struct Ray {
     vec3 direction;  // unit length
 };
 
-// forward, right and up are unit vectors at right angles (a right-handed basis).
-struct PinholeCamera {
-    vec3 eye;
-    vec3 forward;
-    vec3 right;
-    vec3 up;
-    float focalLength;  // eye to sensor, in metres
-    float sensorWidth;  // in metres; the height follows from the image's shape
-};
-uniform PinholeCamera camera;
+// The camera is `camera`, a member of the PathParameters uniform block (shared.h).
 // --8<-- [end:camera]
 
 // --8<-- [start:primary_ray]

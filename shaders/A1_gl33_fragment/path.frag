@@ -24,10 +24,8 @@ layout(location = RANDOM_OUTPUT) out uvec4 newRandomState;
 layout(location = RAYS_OUTPUT) out uint newRayCount;
 // --8<-- [end:io]
 
-uniform uvec2 imageSize;
-uniform uint sampleIndex;        // how many samples the image's mean holds already
-uniform int maxBounces;          // --depth: 1 is direct light only
-uniform int estimator;           // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
+// imageSize, sampleIndex, maxBounces (--depth), estimator and the camera come in the
+// PathParameters uniform block (shared.h).
 
 const float FOREVER = 3.0e38;
 
@@ -45,7 +43,6 @@ vec3 offsetFromSurface(vec3 position, vec3 normal) {
 // on one emitter, if a shadow ray finds nothing in the way; per unit albedo and already
 // divided by the density of the choice. With MIS, weighted against BSDF sampling.
 vec3 lightFromEmitters(Hit hit, inout RandomState random, inout uint rays) {
-    uint emitterCount = shapeCounts.w;
     uint chosen = min(uint(random01(random) * float(emitterCount)), emitterCount - 1u);
     LightPoint light = sampleEmitter(emitters[chosen], random2(random));
     vec3 origin = offsetFromSurface(hit.position, hit.normal);

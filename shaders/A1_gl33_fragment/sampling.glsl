@@ -44,24 +44,24 @@ LightPoint sampleEmitter(Emitter emitter, vec2 u) {
     uint material;
     if (emitter.shape == uint(SHAPE_QUAD)) {  // GLSL 3.30: no int to uint conversion
         Quad q = quadAt(emitter.index);
-        light.position = q.origin.xyz + u.x * q.edge1.xyz + u.y * q.edge2.xyz;
-        light.normal = normalize(cross(q.edge1.xyz, q.edge2.xyz));
-        material = q.info.x;
+        light.position = q.origin + u.x * q.edge1 + u.y * q.edge2;
+        light.normal = normalize(cross(q.edge1, q.edge2));
+        material = q.material;
     } else if (emitter.shape == uint(SHAPE_TRIANGLE)) {
         Triangle t = triangleAt(emitter.index);
         // sqrt spreads the points evenly: without it they bunch up at p0.
         float s = sqrt(u.x);
-        light.position = (1.0 - s) * t.p0.xyz + s * (1.0 - u.y) * t.p1.xyz + s * u.y * t.p2.xyz;
-        light.normal = normalize(cross(t.p1.xyz - t.p0.xyz, t.p2.xyz - t.p0.xyz));
-        material = t.info.x;
+        light.position = (1.0 - s) * t.p0 + s * (1.0 - u.y) * t.p1 + s * u.y * t.p2;
+        light.normal = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+        material = t.material;
     } else {
         // Uniform on the whole sphere; points on the far side face away and add nothing.
         Sphere s = sphereAt(emitter.index);
         float z = 1.0 - 2.0 * u.x, r = sqrt(max(0.0, 1.0 - z * z));
         float angle = 2.0 * PI * u.y;
         light.normal = vec3(r * cos(angle), r * sin(angle), z);
-        light.position = s.centerRadius.xyz + s.centerRadius.w * light.normal;
-        material = s.info.x;
+        light.position = s.center + s.radius * light.normal;
+        material = s.material;
     }
     light.emission = materials[material].emission.rgb;
     return light;
@@ -71,10 +71,10 @@ LightPoint sampleEmitter(Emitter emitter, vec2 u) {
 // --8<-- [start:light_pdf]
 // The density, per steradian seen from the shading point, of light sampling choosing
 // a point at `distance` whose normal makes cos(theta) = cosLight with the ray: one
-// emitter of shapeCounts.w, then 1 / area per square metre, and a small patch
+// emitter of emitterCount, then 1 / area per square metre, and a small patch
 // dA at that distance and angle covers dA cosLight / distance^2 steradians.
 float lightPdf(uint emitter, float distance, float cosLight) {
-    float areaPdf = 1.0 / (float(shapeCounts.w) * emitters[emitter].area);
+    float areaPdf = 1.0 / (float(emitterCount) * emitters[emitter].area);
     return areaPdf * distance * distance / cosLight;
 }
 // --8<-- [end:light_pdf]

@@ -8,43 +8,51 @@
 // texelFetch(primitives, i) is the i-th RGBA32F texel, any i, no filtering.
 uniform samplerBuffer primitives;
 
+// The shapes as chapter 10's shaders see them, built here from their texels.
 struct Sphere {
-    vec4 centerRadius;  // xyz the centre, w the radius
-    uvec4 info;         // x material, y emitter index or NO_EMITTER
+    vec3 center;
+    float radius;
+    uint material;
+    uint emitter;  // index into the emitter list, or NO_EMITTER
 };
 struct Quad {
-    vec4 origin;
-    vec4 edge1;
-    vec4 edge2;
-    uvec4 info;
+    vec3 origin;
+    vec3 edge1;
+    vec3 edge2;
+    uint material;
+    uint emitter;
 };
 struct Triangle {
-    vec4 p0;
-    vec4 p1;
-    vec4 p2;
-    uvec4 info;
+    vec3 p0;
+    vec3 p1;
+    vec3 p2;
+    uint material;
+    uint emitter;
 };
 
 vec4 texel(uint index) { return texelFetch(primitives, int(index)); }
 
-// The indices, stored as floats (shared.h), back as the uvec4 of chapter 10.
-uvec4 shapeInfo(vec4 stored) {
-    return uvec4(uint(stored.x), stored.y < 0.0 ? NO_EMITTER : uint(stored.y), 0u, 0u);
-}
+// A shape's last texel holds its indices as floats (shared.h): the material, and the
+// emitter, -1 when the shape does not glow.
+uint materialOf(vec4 indices) { return uint(indices.x); }
+uint emitterOf(vec4 indices) { return indices.y < 0.0 ? NO_EMITTER : uint(indices.y); }
 
 Sphere sphereAt(uint i) {
-    uint first = firstTexel.x + i * uint(SPHERE_TEXELS);
-    return Sphere(texel(first), shapeInfo(texel(first + 1u)));
+    uint first = firstSphereTexel + i * uint(SPHERE_TEXELS);
+    vec4 centerRadius = texel(first), indices = texel(first + 1u);
+    return Sphere(centerRadius.xyz, centerRadius.w, materialOf(indices), emitterOf(indices));
 }
 Quad quadAt(uint i) {
-    uint first = firstTexel.y + i * uint(QUAD_TEXELS);
-    return Quad(texel(first), texel(first + 1u), texel(first + 2u),
-                shapeInfo(texel(first + 3u)));
+    uint first = firstQuadTexel + i * uint(QUAD_TEXELS);
+    vec4 indices = texel(first + 3u);
+    return Quad(texel(first).xyz, texel(first + 1u).xyz, texel(first + 2u).xyz,
+                materialOf(indices), emitterOf(indices));
 }
 Triangle triangleAt(uint i) {
-    uint first = firstTexel.z + i * uint(TRIANGLE_TEXELS);
-    return Triangle(texel(first), texel(first + 1u), texel(first + 2u),
-                    shapeInfo(texel(first + 3u)));
+    uint first = firstTriangleTexel + i * uint(TRIANGLE_TEXELS);
+    vec4 indices = texel(first + 3u);
+    return Triangle(texel(first).xyz, texel(first + 1u).xyz, texel(first + 2u).xyz,
+                    materialOf(indices), emitterOf(indices));
 }
 // --8<-- [end:fetch]
 
@@ -59,10 +67,10 @@ struct Hit {
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
-bool hitSphere(Ray ray, vec4 centerRadius, float tMin, float tMax, out float t) {
-    vec3 toOrigin = ray.origin - centerRadius.xyz;
+bool hitSphere(Ray ray, Sphere sphere, float tMin, float tMax, out float t) {
+    vec3 toOrigin = ray.origin - sphere.center;
     float halfB = dot(toOrigin, ray.direction);
-    float c = dot(toOrigin, toOrigin) - centerRadius.w * centerRadius.w;
+    float c = dot(toOrigin, toOrigin) - sphere.radius * sphere.radius;
     float discriminant = halfB * halfB - c;
     if (discriminant < 0.0) return false;
     float root = sqrt(discriminant);
@@ -77,29 +85,29 @@ bool hitSphere(Ray ray, vec4 centerRadius, float tMin, float tMax, out float t) 
 
 // Where the ray meets the quad's plane, if the point is inside the parallelogram.
 bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
-    vec3 normal = cross(quad.edge1.xyz, quad.edge2.xyz);
+    vec3 normal = cross(quad.edge1, quad.edge2);
     float facing = dot(normal, ray.direction);
     if (abs(facing) < 1e-20) return false;  // parallel to the plane
-    t = dot(normal, quad.origin.xyz - ray.origin) / facing;
+    t = dot(normal, quad.origin - ray.origin) / facing;
     if (!(t > tMin && t < tMax)) return false;
     // The point's coordinates along the two edges, each in [0, 1] inside: solve
     // p = origin + a edge1 + b edge2 with the dual vectors of the edges.
-    vec3 p = ray.origin + t * ray.direction - quad.origin.xyz;
+    vec3 p = ray.origin + t * ray.direction - quad.origin;
     vec3 w = normal / dot(normal, normal);
-    float a = dot(w, cross(p, quad.edge2.xyz));
-    float b = dot(w, cross(quad.edge1.xyz, p));
+    float a = dot(w, cross(p, quad.edge2));
+    float b = dot(w, cross(quad.edge1, p));
     return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
 }
 
 // Moller-Trumbore, both sides (chapter 06).
 bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
-    vec3 edge1 = triangle.p1.xyz - triangle.p0.xyz;
-    vec3 edge2 = triangle.p2.xyz - triangle.p0.xyz;
+    vec3 edge1 = triangle.p1 - triangle.p0;
+    vec3 edge2 = triangle.p2 - triangle.p0;
     vec3 p = cross(ray.direction, edge2);
     float determinant = dot(edge1, p);
     if (abs(determinant) < 1e-20) return false;
     float inverse = 1.0 / determinant;
-    vec3 toOrigin = ray.origin - triangle.p0.xyz;
+    vec3 toOrigin = ray.origin - triangle.p0;
     float u = dot(toOrigin, p) * inverse;
     if (u < 0.0 || u > 1.0) return false;
     vec3 q = cross(toOrigin, edge1);
@@ -109,11 +117,11 @@ bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t
     return t > tMin && t < tMax;
 }
 
-// Fills in a hit from the shape's front normal and its info (material, emitter).
-Hit makeHit(Ray ray, float t, vec3 frontNormal, uvec4 info) {
+// Fills in a hit from the shape's front normal, material and emitter.
+Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
     return Hit(t, ray.origin + t * ray.direction, normal,
-               dot(normal, ray.direction) < 0.0, info.x, info.y);
+               dot(normal, ray.direction) < 0.0, material, emitter);
 }
 
 // --8<-- [start:nearest]
@@ -122,30 +130,30 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1;
     uint index = 0u;
     float t;
-    for (uint i = 0u; i < shapeCounts.x; ++i)
-        if (hitSphere(ray, sphereAt(i).centerRadius, tMin, tMax, t)) {
+    for (uint i = 0u; i < sphereCount; ++i)
+        if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
         }
-    for (uint i = 0u; i < shapeCounts.y; ++i)
+    for (uint i = 0u; i < quadCount; ++i)
         if (hitQuad(ray, quadAt(i), tMin, tMax, t)) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
-    for (uint i = 0u; i < shapeCounts.z; ++i)
+    for (uint i = 0u; i < triangleCount; ++i)
         if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) {
             tMax = t; kind = SHAPE_TRIANGLE; index = i;
         }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = sphereAt(index);
-        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.centerRadius.xyz,
-                      s.info);
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material,
+                      s.emitter);
     } else if (kind == SHAPE_QUAD) {
         Quad q = quadAt(index);
-        hit = makeHit(ray, tMax, cross(q.edge1.xyz, q.edge2.xyz), q.info);
+        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
         Triangle tr = triangleAt(index);
-        hit = makeHit(ray, tMax, cross(tr.p1.xyz - tr.p0.xyz, tr.p2.xyz - tr.p0.xyz),
-                      tr.info);
+        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
+                      tr.emitter);
     }
     return kind >= 0;
 }
@@ -154,11 +162,11 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
-    for (uint i = 0u; i < shapeCounts.x; ++i)
-        if (hitSphere(ray, sphereAt(i).centerRadius, tMin, tMax, t)) return true;
-    for (uint i = 0u; i < shapeCounts.y; ++i)
+    for (uint i = 0u; i < sphereCount; ++i)
+        if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) return true;
+    for (uint i = 0u; i < quadCount; ++i)
         if (hitQuad(ray, quadAt(i), tMin, tMax, t)) return true;
-    for (uint i = 0u; i < shapeCounts.z; ++i)
+    for (uint i = 0u; i < triangleCount; ++i)
         if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) return true;
     return false;
 }

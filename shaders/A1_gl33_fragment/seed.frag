@@ -1,11 +1,10 @@
 #version 330 core
 // Gives every pixel its generator's starting state, once per image: chapter 10's
 // seed.comp as a pass over the whole image. It starts the mean and ray count at zero.
+// imageSize and seed (--seed) come in the PathParameters block (shared.h).
 #include "shared.h"
 #include "random.glsl"
 
-uniform uvec2 imageSize;
-uniform uint seed;  // --seed
 layout(location = MEAN_OUTPUT) out vec4 newMean;
 layout(location = RANDOM_OUTPUT) out uvec4 newRandomState;
 layout(location = RAYS_OUTPUT) out uint newRayCount;

@@ -1,17 +1,18 @@
 // Numbers and structs the C++ host and the GLSL shaders must agree on. Both sides read
 // this one file: GLSL sees the structs as they are, C++ sees them in namespace gpu with
-// glm's vector types. (C++ files include <glm/glm.hpp> and <cstddef> first: this file
-// may not #include anything, because the shader loader looks for includes in this folder.)
+// glm's vector types. The lines only C++ reads, its #includes among them, stand inside
+// `#ifdef __cplusplus`, which the course's shader loader passes over.
 #ifndef COURSE_SHARED_H
 #define COURSE_SHARED_H
 
 // GLSL 3.30 has no layout(binding = N): the host connects samplers to texture units and
-// the uniform block to its binding point by name, after every (re)link.
+// uniform blocks to their binding points by name, after every (re)link.
 #define PRIMITIVES_UNIT 0       // the buffer texture of shapes (samplerBuffer)
 #define PREVIOUS_MEAN_UNIT 1    // the last pass's running mean, linear RGB
 #define PREVIOUS_RANDOM_UNIT 2  // the last pass's generator states, one uvec4 a pixel
 #define PREVIOUS_RAYS_UNIT 3    // the last pass's ray counts, for the --json stats
 #define SCENE_BLOCK_BINDING 0   // materials and emitters (uniform buffer)
+#define PARAMETERS_BINDING 1    // PathParameters below: what a pass reads besides those
 
 // What one pass writes per pixel: the colour attachments of an accumulation
 // framebuffer, each one a fragment shader output (layout(location = N) out).
@@ -58,9 +59,12 @@
 #define ROULETTE_AFTER 3
 
 #ifdef __cplusplus
+#include <cstddef>      // offsetof, for the static_asserts
+#include <glm/glm.hpp>  // the vector types
 namespace gpu {
 using uint = glm::uint;
-using uvec4 = glm::uvec4;
+using uvec2 = glm::uvec2;
+using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 #endif
 
@@ -79,26 +83,81 @@ struct Emitter {
 };
 
 // The same bytes are a C++ struct and a GLSL uniform block, whose members GLSL sees as
-// global names (materials[i], emitters[i], shapeCounts).
+// global names (sphereCount, materials[i], emitters[i], ...).
 #ifdef __cplusplus
 struct SceneBlock {
 #else
 layout(std140) uniform SceneBlock {
 #endif
-    uvec4 shapeCounts;  // x spheres, y quads, z triangles, w emitters
-    uvec4 firstTexel;   // where the spheres (x), quads (y), triangles (z) begin
+    uint sphereCount;
+    uint quadCount;
+    uint triangleCount;
+    uint emitterCount;
+    uint firstSphereTexel;  // where each kind of shape begins in the buffer texture
+    uint firstQuadTexel;
+    uint firstTriangleTexel;
+    uint unused;  // std140 starts an array of structs at a multiple of 16 bytes
     Material materials[MAX_MATERIALS];
     Emitter emitters[MAX_EMITTERS];
 };
 // --8<-- [end:structs]
 
+// --8<-- [start:parameters]
+// The pinhole camera of chapter 03: eye, forward, right and up (unit vectors at right
+// angles), as the host computes them once per image (camera.cpp).
+struct PinholeCamera {
+    vec3 eye;
+    float focalLength;  // eye to sensor, in metres
+    vec3 forward;
+    float sensorWidth;  // in metres; the height follows from the image's shape
+    vec3 right;
+    uint unused0;
+    vec3 up;
+    uint unused1;
+};
+
+// What a pass reads besides the textures and the scene, as one std140 uniform block:
+// the host fills this struct and uploads it before each pass, and GLSL sees its members
+// as global names (camera, imageSize, ...). A misspelt name fails to compile on either
+// side, where a misspelt glUniform name would set nothing and say nothing.
 #ifdef __cplusplus
+struct PathParameters {
+#else
+layout(std140) uniform PathParameters {
+#endif
+    PinholeCamera camera;
+    uvec2 imageSize;
+    uint seed;         // --seed, for seed.frag
+    uint sampleIndex;  // how many samples the image's mean holds already
+    int maxBounces;    // --depth: 1 is direct light only
+    int estimator;     // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
+    uint unused2;      // std140 rounds a block up to 16 bytes as well
+    uint unused3;
+};
+// --8<-- [end:parameters]
+
+#ifdef __cplusplus
+// The offsets GLSL's std140 rules give; a C++ struct that differs would scramble the
+// scene or the camera silently, so the compiler checks.
 static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std140 Material");
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std140 Emitter");
-static_assert(offsetof(SceneBlock, materials) == 32 &&
+static_assert(offsetof(SceneBlock, emitterCount) == 12 &&
+                  offsetof(SceneBlock, firstSphereTexel) == 16 &&
+                  offsetof(SceneBlock, materials) == 32 &&
                   offsetof(SceneBlock, emitters) == 32 + 32 * MAX_MATERIALS &&
                   sizeof(SceneBlock) == 32 + 32 * MAX_MATERIALS + 16 * MAX_EMITTERS,
               "std140 SceneBlock");
+static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
+                  offsetof(PinholeCamera, forward) == 16 &&
+                  offsetof(PinholeCamera, sensorWidth) == 28 &&
+                  offsetof(PinholeCamera, right) == 32 && offsetof(PinholeCamera, up) == 48,
+              "std140 PinholeCamera: each number fills the fourth slot of a vec3");
+static_assert(offsetof(PathParameters, imageSize) == 64 &&
+                  offsetof(PathParameters, seed) == 72 &&
+                  offsetof(PathParameters, sampleIndex) == 76 &&
+                  offsetof(PathParameters, maxBounces) == 80 &&
+                  offsetof(PathParameters, estimator) == 84 && sizeof(PathParameters) == 96,
+              "std140 PathParameters");
 }  // namespace gpu
 #endif
 

@@ -117,6 +117,88 @@ TEST(ShaderSource, MissingVersionAndBadIncludeSyntax) {
               std::string::npos);
 }
 
+// A header shared with C++ keeps its C++ includes inside #ifdef __cplusplus: those lines
+// reach GLSL blank (so every line keeps its number), their #includes are not looked for,
+// and the #if lines themselves pass, so GLSL sees the same structure.
+TEST(ShaderSource, CplusplusOnlyLinesArePassedOverBlank) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"shared.h\"\nvoid main() {}\n");
+    shaders.write("shared.h",
+                  "#ifndef SHARED_H\n"                   // 1
+                  "#define SHARED_H\n"                   // 2
+                  "#ifdef __cplusplus\n"                 // 3
+                  "#include <glm/glm.hpp>\n"             // 4
+                  "#include \"only_cpp.h\"\n"            // 5: never looked for
+                  "namespace gpu {\n"                    // 6
+                  "#endif\n"                             // 7
+                  "#define BINDING 1\n"                  // 8
+                  "#ifdef __cplusplus\n"                 // 9
+                  "struct Block {\n"                     // 10
+                  "#else\n"                              // 11
+                  "layout(std140) uniform Block {\n"     // 12
+                  "#endif\n"                             // 13
+                  "    float x;\n"                       // 14
+                  "};\n"                                 // 15
+                  "#ifdef __cplusplus\n"                 // 16
+                  "}  // namespace gpu\n"                // 17
+                  "#endif\n"                             // 18
+                  "#endif\n");                           // 19
+    const course::ShaderSource source =
+        course::loadShaderSource(shaders.folder.string(), "main.comp");
+    EXPECT_EQ(source.text,
+              "#version 430\n#line 10001 1\n"
+              "#ifndef SHARED_H\n#define SHARED_H\n#ifdef __cplusplus\n\n\n\n#endif\n"
+              "#define BINDING 1\n#ifdef __cplusplus\n\n#else\n"
+              "layout(std140) uniform Block {\n#endif\n    float x;\n};\n"
+              "#ifdef __cplusplus\n\n#endif\n#endif\n"
+              "#line 3 0\nvoid main() {}\n");
+    EXPECT_EQ(source.shownPaths.size(), 2u);  // only_cpp.h was not read
+}
+
+TEST(ShaderSource, EveryWayOfAskingForCplusplus) {
+    ShaderFolder shaders;
+    shaders.write("main.comp",
+                  "#version 430\n"
+                  "#if defined(__cplusplus)  // C++\n#include <a>\n#endif\n"
+                  "#if defined __cplusplus\n#include <b>\n#elif FOO\nglsl_b;\n#endif\n"
+                  "#ifndef __cplusplus\nglsl_c;\n#else\n#include <c>\n#endif\n"
+                  "#if !defined(__cplusplus)\nglsl_d;\n#else\n"
+                  "#if NESTED\n#include <d>\n#endif\n#endif\n"
+                  "#if defined(__cplusplus) && OTHER\nunchanged;\n#endif\n");
+    EXPECT_EQ(course::loadShaderSource(shaders.folder.string(), "main.comp").text,
+              "#version 430\n"
+              "#if defined(__cplusplus)  // C++\n\n#endif\n"
+              "#if defined __cplusplus\n\n#elif FOO\nglsl_b;\n#endif\n"
+              "#ifndef __cplusplus\nglsl_c;\n#else\n\n#endif\n"
+              "#if !defined(__cplusplus)\nglsl_d;\n#else\n\n\n\n#endif\n"
+              "#if defined(__cplusplus) && OTHER\nunchanged;\n#endif\n");
+}
+
+TEST(ShaderSource, CplusplusBlockWithoutEndifIsReported) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"shared.h\"\nvoid main() {}\n");
+    shaders.write("shared.h", "#define A 1\n#ifdef __cplusplus\n#include <glm/glm.hpp>\n");
+    const std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "main.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("shaders/99_test/shared.h:2: this #if on __cplusplus has no "
+                           "#endif"),
+              std::string::npos)
+        << message;
+}
+
+TEST(ShaderSource, AngleIncludeOutsideCplusplusSaysWhereItBelongs) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include <glm/glm.hpp>\nvoid main() {}\n");
+    const std::string message = failureOf(
+        [&] { course::loadShaderSource(shaders.folder.string(), "main.comp"); },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("shaders/99_test/main.comp:2: #include needs a quoted file name"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("inside #ifdef __cplusplus"), std::string::npos) << message;
+}
+
 TEST(ShaderLog, MesaNvidiaAndAmdFormsAreTranslated) {
     std::vector<std::string> paths = {"shaders/01/main.comp", "shaders/01/a.glsl"};
     EXPECT_EQ(course::translateShaderLog("1:7(12): error: syntax error", paths),
