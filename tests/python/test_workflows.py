@@ -125,12 +125,13 @@ def test_the_course_workflow_publishes_the_book_to_pages_after_the_checks():
     jobs = workflow["jobs"]
     (book,) = jobs_using(workflow, "actions/upload-pages-artifact")
     assert book["runs-on"] == "ubuntu-24.04"
-    building = steps_running(book, "./course book")
+    building = steps_running(book, "./course book --student")
     assert building and not steps_running(book, "--draft"), "the full book, not the draft"
+    # Published, the book must not give the solutions away: the student edition.
     assert steps_running(book, "$(./course packages book)")
     upload = next(s for s in book["steps"] if s.get("uses", "").startswith(
         "actions/upload-pages-artifact@"))
-    assert upload["with"]["path"] == "book/site"
+    assert upload["with"]["path"] == "book/site-student"
     assert jobs_using(workflow, "actions/configure-pages") == [book]
 
     (deploy,) = jobs_using(workflow, "actions/deploy-pages")
