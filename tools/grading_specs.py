@@ -2,13 +2,34 @@
 command-line arguments, and whether students see the result before the deadline
 ('visible') or only after it ('after_due_date', Gradescope's hidden tests).
 
-kind 'image': the submission's PNG is compared with the solution's for the same args.
-kind 'check': the program checks itself; it must exit 0 and print `expect`."""
+kind 'image': the submission's PNG is compared with the solution's for the same args
+  (for deterministic pictures: the same arguments give one right picture).
+kind 'check': the program checks itself; it must exit 0 and print `expect`.
+kind 'statistical': for random pictures. The submission renders the args several times
+  at its own seeds (`sampling`); each region's mean must agree with the solution's
+  many-sample render in a z-test with the submission's own noise
+  (tools/grading_statistics.py), so any correct estimator passes, whatever its noise.
+kind 'traversal': chapter 11's tree: the solution's nearest hits, and about its work.
+
+Points: a plausible wrong implementation should lose at least half, a correct one
+nothing, so each chapter's tests weigh what they catch
+(tests/python/test_grading_statistics.py grades catalogues of both)."""
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """How a 'statistical' test samples: the submission's `runs` renders of `spp`
+    samples each (at seeds 1, 2, ...) against the solution's `reference_runs` renders
+    of `reference_spp` (at other seeds, made once and kept)."""
+    runs: int = 8
+    spp: int = 64
+    reference_runs: int = 4
+    reference_spp: int = 2048
 
 
 @dataclass
@@ -19,6 +40,7 @@ class GradeTest:
     kind: str = "image"
     visibility: str = "visible"
     expect: str = ""
+    sampling: Sampling | None = None  # kind 'statistical' only
 
     @property
     def slug(self) -> str:
@@ -27,6 +49,17 @@ class GradeTest:
 
 SMALL = ["--width", "96", "--height", "72"]
 ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
+TINY = ["--width", "32", "--height", "32"]  # statistical tests: many small runs
+TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two sizes
+# Samples of the statistical tests (tools/grading_statistics.py): the submission's 8
+# runs at its own seeds against the solution's 4 runs of many samples (and 8 of the
+# submission's samples, for its noise). Chapter 09 traces every triangle for every ray,
+# so it takes fewer.
+PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=2048)
+TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
+# Chapter 11's picture tells a right tree from a wrong one by whole missing triangles:
+# few samples do, and a submission whose box test enters every box stays bearable.
+TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
 # Chapter 04's three front spheres in front of the big one, close up with a long lens:
 # where the nearest hit matters, filling the frame.
 OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
@@ -84,41 +117,62 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("smooth teapot, wider picture", 3, ["--width", "128", "--height", "64"]),
         GradeTest("smooth teapot, odd size", 3, ODD, visibility="after_due_date"),
     ],
-    # Chapter 09 draws random numbers: every run uses a fixed --seed, so the solution's
-    # picture is reproduced bit for bit, and few samples keep the runs short.
+    # Chapter 09: the generator is the lesson, and it is deterministic: the hybrid Taus
+    # of GPU Gems 3, bit for bit as python_prototypes/rng.py, so the first number of each
+    # pixel (--view noise) must be the solution's exactly, at a fixed seed. (Another
+    # good generator is another lesson: it loses these five points, by design.) What the
+    # numbers are used for is random: the anti-aliased teapot averages rays through
+    # random points of each pixel, and any uniform point is right (the two numbers in
+    # either order, shifted and wrapped), so it is graded by statistics. The two halves
+    # weigh the same, so that a wrong generator and a wrong jitter each lose half.
+    # (--view ao is not graded: its picture barely depends on the jitter, and its
+    # points would tip that balance; test_09_random_numbers.py checks it.)
     "09": [
         GradeTest("first random numbers, hashed seeding", 3,
                   [*SMALL, "--view", "noise", "--seed", "3"]),
         GradeTest("first random numbers, naive seeding", 2,
                   [*SMALL, "--view", "noise", "--seeding", "naive", "--seed", "3"]),
-        GradeTest("anti-aliased teapot, 4 samples", 3,
-                  ["--width", "64", "--height", "48", "--spp", "4", "--seed", "5"]),
-        GradeTest("ambient occlusion, 2 samples", 2,
-                  ["--width", "64", "--height", "48", "--view", "ao", "--spp", "2",
-                   "--seed", "7"], visibility="after_due_date"),
+        GradeTest("anti-aliased teapot", 3, ["--width", "32", "--height", "32"],
+                  "statistical", sampling=TEAPOT_SAMPLING),
+        GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
+                  "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
     ],
+    # Chapter 10: a path-traced picture is random, and any correct estimator of the same
+    # light may draw its numbers in another order or map them another valid way: graded
+    # by its expectation (tools/grading_statistics.py), never by reproducing the
+    # solution's noise. Each test probes other code: direct light (light sampling and
+    # MIS against BSDF sampling at the first bounce), a path's length (four bounces: one
+    # too many or too few shows), Russian roulette (from the third bounce on), light
+    # sampling without MIS. Three of them light the room with two lights of different
+    # sizes (assets/scenes/cornell_two_lights.scene): every scene the chapter ships has
+    # one light, where a density not divided by the number of lights goes unseen.
     "10": [
-        # A fixed seed makes a path-traced image deterministic: the submission must
-        # reproduce the solution's estimate, noise and all, at the same seed.
-        GradeTest("Cornell box, direct light", 3,
-                  ["--width", "48", "--height", "48", "--spp", "4", "--seed", "7", "--direct"]),
-        GradeTest("Cornell box, global illumination", 4,
-                  ["--width", "48", "--height", "48", "--spp", "4", "--seed", "7"]),
-        GradeTest("light sampling only", 3, ["--width", "48", "--height", "48", "--spp", "4",
-                                              "--seed", "3", "--estimator", "nee"],
-                  visibility="after_due_date"),
+        GradeTest("two lights, direct light", 2.5, [*TINY, *TWO_LIGHTS, "--direct"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("two lights, four bounces", 2.5, [*TINY, *TWO_LIGHTS, "--depth", "4"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, global illumination", 2.5, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("two lights, light sampling only", 2.5,
+                  [*TINY, *TWO_LIGHTS, "--estimator", "nee"], "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
     ],
     "11": [
-        # The tree must give the same pictures as brute force (a slab test that enters
-        # every box does too, only slowly, or cut short on a GL with a loop limit) and
-        # do the same work: --view cost shows each pixel's traversal steps, which depend
-        # on the SAH's tree and the box test. The starter's box test misses every box.
-        GradeTest("teapot in the Cornell box, six bounces", 4,
-                  ["--width", "32", "--height", "32", "--spp", "2", "--seed", "7"]),
-        GradeTest("traversal work per pixel (--view cost)", 4,
-                  ["--width", "64", "--height", "64", "--spp", "1", "--view", "cost"]),
-        GradeTest("gems, traversal work per pixel", 2,
-                  ["--scene", "cornell_gems", "--width", "64", "--height", "64", "--spp",
-                   "1", "--view", "cost"], visibility="after_due_date"),
+        # The tree must give the pictures of brute force (a slab test that enters every
+        # box does too, only slowly) and do about the solution's work, but need not be
+        # the solution's tree: another valid SAH (another bin count, the cost divided by
+        # the node's area) gives another tree. So the path-traced picture is graded by
+        # statistics, and the traversal by its nearest hits (--view distance, exact: one
+        # ray through each pixel's centre) and its work (--view cost, each pixel's steps):
+        # within +-25% of the solution's mean where rays enter the tree, and no more
+        # pixels at the heat map's top (60 steps; entering every box takes thousands).
+        # The starter's box test misses every box: the room without the teapot.
+        GradeTest("teapot in the Cornell box, six bounces", 4, TINY, "statistical",
+                  sampling=TREE_SAMPLING),
+        GradeTest("nearest hits and traversal work", 4, ["--width", "64", "--height", "64"],
+                  "traversal"),
+        GradeTest("gems, nearest hits and traversal work", 2,
+                  ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
+                  "traversal", visibility="after_due_date"),
     ],
 }

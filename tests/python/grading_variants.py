@@ -1,0 +1,252 @@
+"""Two catalogues of submissions for the statistical grading (tools/grading_statistics.py):
+correct implementations that differ from the solution (other random numbers, another
+valid mapping or weighting), which must each score at least 90%, and plausible wrong
+ones, which must each score at most half. Each is a few find-and-replace edits on a copy
+of the solution's chapters/NN and shaders/NN; test_grading_statistics.py grades them.
+
+An edit names its file (relative to the chapter's shader or host folder), the exact
+text it replaces and what replaces it; applying one that finds nothing, or finds the
+text more than `count` times, fails (so a catalogue that drifts from the solution
+says so instead of grading the solution again)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Edit:
+    file: str   # "shaders/sampling.glsl" or "chapters/bvh.cpp": the chapter's folder
+    old: str
+    new: str
+    count: int = 1
+
+
+@dataclass(frozen=True)
+class Variant:
+    chapter: str
+    name: str
+    correct: bool
+    edits: tuple[Edit, ...] = field(default_factory=tuple)
+
+    @property
+    def slug(self) -> str:
+        return "".join(c if c.isalnum() else "_" for c in self.name.lower())[:60]
+
+
+def apply(variant: Variant, root: Path, destination: Path) -> Path:
+    """Copies the solution's chapter folders into destination and applies the edits."""
+    import shutil
+    for top in ("chapters", "shaders"):
+        shutil.copytree(root / top / variant.chapter, destination / top / variant.chapter)
+    for edit in variant.edits:
+        top, name = edit.file.split("/", 1)
+        path = destination / top / variant.chapter / name
+        text = path.read_text()
+        found = text.count(edit.old)
+        assert found == edit.count, \
+            f"{variant.name}: {edit.file} has {found} of {edit.old!r}, expected {edit.count}"
+        changed = text.replace(edit.old, edit.new)
+        assert changed != text, f"{variant.name}: the edit of {edit.file} changed nothing"
+        path.write_text(changed)
+    return destination
+
+
+# ---------------------------------------------------------------- chapter 10
+
+T = "10_path_tracing"
+COSINE = """    float radius = sqrt(u.x);
+    float angle = 2.0 * PI * u.y;
+    vec3 local = vec3(radius * cos(angle), radius * sin(angle), sqrt(max(0.0, 1.0 - u.x)));
+"""
+UNIFORM = """    float z = u.x;  // cos(theta) uniform in [0, 1]: uniform over the hemisphere
+    float radius = sqrt(max(0.0, 1.0 - z * z));
+    float angle = 2.0 * PI * u.y;
+    vec3 local = vec3(radius * cos(angle), radius * sin(angle), z);
+"""
+LIGHT_PDF = "    return areaPdf * distance * distance / cosLight;\n"
+CHOICE = ("    uint chosen = min(uint(random01(random) * float(emitterCount)), "
+          "emitterCount - 1u);\n")
+HIT_WEIGHT = "weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));"
+BOUNCE_END = "if (!hit.front || bounce == maxBounces) break;"
+
+CHAPTER_10 = [
+    Variant(T, "cosine sampler with u.x and u.y swapped", True, (
+        Edit("shaders/sampling.glsl", COSINE, COSINE.replace("u.x", "U.Y")
+             .replace("u.y", "u.x").replace("U.Y", "u.y")),)),
+    Variant(T, "concentric (Shirley-Chiu) disk mapping", True, (
+        Edit("shaders/sampling.glsl", COSINE, """    vec2 square = 2.0 * u - 1.0;
+    vec2 disk = vec2(0.0);
+    if (square.x != 0.0 || square.y != 0.0) {
+        bool wide = abs(square.x) > abs(square.y);
+        float radius = wide ? square.x : square.y;
+        float angle = wide ? PI / 4.0 * (square.y / square.x)
+                           : PI / 2.0 - PI / 4.0 * (square.x / square.y);
+        disk = radius * vec2(cos(angle), sin(angle));
+    }
+    vec3 local = vec3(disk, sqrt(max(0.0, 1.0 - dot(disk, disk))));
+"""),)),
+    Variant(T, "random numbers drawn in another order (light point, then light)", True, (
+        Edit("shaders/path.comp", CHOICE + "    LightPoint light = sampleEmitter(emitters"
+             "[chosen], random2(random));\n",
+             "    vec2 onLight = random2(random);\n" + CHOICE +
+             "    LightPoint light = sampleEmitter(emitters[chosen], onLight);\n"),)),
+    Variant(T, "balance heuristic instead of the power heuristic", True, (
+        Edit("shaders/sampling.glsl", "return 1.0 / (1.0 + ratio * ratio);",
+             "return 1.0 / (1.0 + ratio);"),)),
+    Variant(T, "Russian roulette from the first bounce, survival at most 0.8", True, (
+        Edit("shaders/path.comp", "if (bounce + 1 >= ROULETTE_AFTER) {",
+             "if (bounce + 1 >= 1) {"),
+        Edit("shaders/path.comp", "throughput.b)), 0.95);", "throughput.b)), 0.8);"))),
+    Variant(T, "uniform hemisphere sampling with its own density 1/(2 pi)", True, (
+        Edit("shaders/sampling.glsl", COSINE, UNIFORM),
+        Edit("shaders/path.comp", "directionPdf = max(dot(hit.normal, direction), 0.0) / PI;"
+             "\n        throughput *= albedo;",
+             "directionPdf = 1.0 / (2.0 * PI);\n"
+             "        throughput *= albedo * 2.0 * max(dot(hit.normal, direction), 0.0);"),
+        Edit("shaders/path.comp", "powerHeuristic(pdf, cosSurface / PI)",
+             "powerHeuristic(pdf, 1.0 / (2.0 * PI))"))),
+    Variant(T, "lights chosen in proportion to their area", True, (
+        Edit("shaders/path.comp", CHOICE, """    float totalArea = 0.0;
+    for (uint i = 0u; i < emitterCount; ++i) totalArea += emitters[i].area;
+    float pick = random01(random) * totalArea;
+    uint chosen = 0u;
+    while (chosen + 1u < emitterCount && pick >= emitters[chosen].area)
+        pick -= emitters[chosen++].area;
+"""),
+        Edit("shaders/sampling.glsl",
+             "    float areaPdf = 1.0 / (float(emitters.length()) * emitters[emitter].area);\n",
+             """    float totalArea = 0.0;
+    for (int i = 0; i < emitters.length(); ++i) totalArea += emitters[i].area;
+    float areaPdf = 1.0 / totalArea;  // area_i / total, times 1 / area_i
+"""))),
+
+    Variant(T, "uniform hemisphere directions treated as cosine-distributed", False, (
+        Edit("shaders/sampling.glsl", COSINE, UNIFORM),)),
+    Variant(T, "light density off by a factor of pi", False, (
+        Edit("shaders/sampling.glsl", LIGHT_PDF,
+             "    return areaPdf * distance * distance / cosLight / PI;\n"),)),
+    Variant(T, "no cosine at the light", False, (
+        Edit("shaders/sampling.glsl", LIGHT_PDF,
+             "    return areaPdf * distance * distance;\n"),)),
+    Variant(T, "light density not divided by the number of lights", False, (
+        Edit("shaders/sampling.glsl",
+             "1.0 / (float(emitters.length()) * emitters[emitter].area)",
+             "1.0 / emitters[emitter].area"),)),
+    Variant(T, "MIS: a light hit by a bounce counted in full (weights sum to more than 1)",
+            False, (Edit("shaders/path.comp", HIT_WEIGHT, "weight = 1.0;"),)),
+    Variant(T, "MIS: next-event weight with the densities swapped (weights do not sum to 1)",
+            False, (Edit("shaders/path.comp", "powerHeuristic(pdf, cosSurface / PI)",
+                         "powerHeuristic(cosSurface / PI, pdf)"),)),
+    Variant(T, "Russian roulette without the division by the survival probability", False, (
+        Edit("shaders/path.comp", "            throughput /= survival;\n", ""),)),
+    Variant(T, "one bounce too many", False, (
+        Edit("shaders/path.comp", BOUNCE_END,
+             "if (!hit.front || bounce == maxBounces + 1) break;"),)),
+    Variant(T, "one bounce too few", False, (
+        Edit("shaders/path.comp", BOUNCE_END,
+             "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
+]
+
+CATALOGUE = {"10": CHAPTER_10}
+
+
+# ---------------------------------------------------------------- chapter 09
+
+N = "09_random_numbers"
+JITTER = "    vec2 pointInPixel = vec2(random01(random), random01(random));\n"
+TAUS_X = "tausStep(state.words.x, 13, 19, 12, 4294967294u)"
+
+CHAPTER_09 = [
+    Variant(N, "jitter's two numbers drawn the other way round", True, (
+        Edit("shaders/trace.comp", JITTER, "    float across = random01(random);\n"
+             "    vec2 pointInPixel = vec2(random01(random), across);\n"),)),
+    Variant(N, "jitter shifted by half a pixel and wrapped (Cranley-Patterson)", True, (
+        Edit("shaders/trace.comp", JITTER, "    vec2 pointInPixel = fract(vec2(random01(random), "
+             "random01(random)) + 0.5);\n"),)),
+    Variant(N, "generator's four steps XORed in another order", True, (
+        Edit("shaders/random.glsl", """    return tausStep(state.words.x, 13, 19, 12, 4294967294u)
+         ^ tausStep(state.words.y, 2, 25, 4, 4294967288u)
+         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u)
+         ^ lcgStep(state.words.w);
+""", """    uint bits = lcgStep(state.words.w);
+    bits ^= tausStep(state.words.z, 3, 11, 17, 4294967280u);
+    bits ^= tausStep(state.words.y, 2, 25, 4, 4294967288u);
+    return bits ^ tausStep(state.words.x, 13, 19, 12, 4294967294u);
+"""),)),
+
+    Variant(N, "one random number for both coordinates of the jitter", False, (
+        Edit("shaders/trace.comp", JITTER, "    float u = random01(random);\n"
+             "    vec2 pointInPixel = vec2(u);\n"),)),
+    Variant(N, "jitter around the pixel's corner, in [-0.5, 0.5)", False, (
+        Edit("shaders/trace.comp", JITTER, "    vec2 pointInPixel = vec2(random01(random), "
+             "random01(random)) - 0.5;\n"),)),
+    Variant(N, "generator without its LCG", False, (
+        Edit("shaders/random.glsl", "         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u)"
+             "\n         ^ lcgStep(state.words.w);",
+             "         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u);"),)),
+    Variant(N, "generator whose state never advances", False, (
+        Edit("shaders/random.glsl", "    return tausStep(state.words.x,",
+             "    RandomState copy = state;\n    return tausStep(copy.words.x,"),
+        Edit("shaders/random.glsl", "         ^ tausStep(state.words.y,",
+             "         ^ tausStep(copy.words.y,"),
+        Edit("shaders/random.glsl", "         ^ tausStep(state.words.z,",
+             "         ^ tausStep(copy.words.z,"),
+        Edit("shaders/random.glsl", "         ^ lcgStep(state.words.w);",
+             "         ^ lcgStep(copy.words.w);"))),
+    Variant(N, "a Tausworthe step with a wrong shift", False, (
+        Edit("shaders/random.glsl", TAUS_X, TAUS_X.replace("13, 19, 12", "13, 19, 13")),)),
+]
+
+CATALOGUE["09"] = CHAPTER_09
+
+
+# ---------------------------------------------------------------- chapter 11
+
+B = "11_bvh"
+SAH = """            double cost = options_.nodeCost * box.halfArea() +
+                          options_.triangleCost * (left.halfArea() * leftCount +
+                                                   rightAreas_[bin] * rightCount);
+"""
+SLAB_PLANES = """    vec3 nearPlanes = mix(boxMin, boxMax, ray.negative);
+    vec3 farPlanes = mix(boxMax, boxMin, ray.negative);
+    vec3 tNear = (nearPlanes - ray.origin) * ray.inverseDirection;
+    vec3 tFar = (farPlanes - ray.origin) * ray.inverseDirection;
+"""
+
+CHAPTER_11 = [
+    Variant(B, "SAH costs divided by the node's area (split and leaf alike)", True, (
+        Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost +
+                          options_.triangleCost * (left.halfArea() * leftCount +
+                                                   rightAreas_[bin] * rightCount) /
+                          box.halfArea();
+"""),
+        Edit("chapters/bvh.cpp", "const double leafCost = options_.triangleCost * count * "
+             "box.halfArea();", "const double leafCost = options_.triangleCost * count;"))),
+    Variant(B, "8 bins instead of 16", True, (
+        Edit("chapters/bvh.cpp", "    const int binCount = options_.binCount;\n",
+             "    const int binCount = options_.binCount / 2;\n"),)),
+    Variant(B, "slab test by min and max of each axis's two distances", True, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tBoxMin = (boxMin - ray.origin) * ray.inverseDirection;
+    vec3 tBoxMax = (boxMax - ray.origin) * ray.inverseDirection;
+    vec3 tNear = min(tBoxMin, tBoxMax);
+    vec3 tFar = max(tBoxMin, tBoxMax);
+"""),)),
+
+    Variant(B, "SAH without the triangles (a node's cost only)", False, (
+        Edit("chapters/bvh.cpp", SAH,
+             "            double cost = options_.nodeCost * box.halfArea();\n"),)),
+    Variant(B, "SAH with each side's count on the other side's area", False, (
+        Edit("chapters/bvh.cpp", SAH, SAH.replace("leftCount +", "rightCount +")
+             .replace("* rightCount);", "* leftCount);")),)),
+    Variant(B, "slab test that enters every box", False, (
+        Edit("shaders/bvh_traversal.glsl", "return enter <= exit * 1.0000004 ? enter : BVH_MISS;",
+             "return enter;"),)),
+    Variant(B, "slab test that ignores the direction's signs", False, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tNear = (boxMin - ray.origin) * ray.inverseDirection;
+    vec3 tFar = (boxMax - ray.origin) * ray.inverseDirection;
+"""),)),
+]
+
+CATALOGUE["11"] = CHAPTER_11
