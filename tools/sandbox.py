@@ -243,9 +243,10 @@ def _ensure_user(name: str, locks: Path) -> tuple[int, int]:
     return entry.pw_uid, entry.pw_gid
 
 
-def _live_processes(uid: int) -> list[int] | None:
-    """Processes whose real or effective user is uid, zombies left out (their parent
-    or init reaps them; they run nothing); None without /proc."""
+def _live_processes(uid: int, zombies: bool = False) -> list[int] | None:
+    """Processes whose real or effective user is uid, zombies left out unless asked for
+    (their parent or init reaps them; they run nothing, but until then they count
+    towards the user's process limit); None without /proc."""
     if not os.path.exists("/proc/self/status"):
         return None
     found = []
@@ -259,7 +260,9 @@ def _live_processes(uid: int) -> list[int] | None:
             continue
         fields_ = dict(line.split(":", 1) for line in text.splitlines() if ":" in line)
         ids = fields_.get("Uid", "").split()
-        if str(uid) in ids[:2] and not fields_.get("State", "").strip().startswith("Z"):
+        zombie = fields_.get("State", "").strip().startswith("Z")
+        ours = fields_.get("PPid", "").strip() == str(os.getpid())  # we reap those
+        if str(uid) in ids[:2] and (not zombie or (zombies and not ours)):
             found.append(int(entry.name))
     return found
 
@@ -392,7 +395,10 @@ class Sandbox:
 
     def environment(self, cwd: Path) -> dict[str, str]:
         env = {"PATH": SAFE_PATH, "HOME": str(cwd), "TMPDIR": str(cwd), "LANG": "C.UTF-8",
-               "XDG_CACHE_HOME": str(cwd / ".cache"), "MESA_SHADER_CACHE_DISABLE": "true"}
+               # Mesa's shader cache lives in this grading's own folder (emptied for the
+               # next submission), so the runs of one grading compile each shader once
+               # (measured: a 32x32 chapter-10 run drops from 0.34 s to 0.12 s).
+               "XDG_CACHE_HOME": str(cwd / ".cache"), "MESA_SHADER_CACHE_MAX_SIZE": "64M"}
         for key in ("MESA_GL_VERSION_OVERRIDE", "LIBGL_ALWAYS_SOFTWARE", "GALLIUM_DRIVER",
                     "LP_NUM_THREADS"):
             if key in os.environ:
@@ -481,12 +487,21 @@ class Sandbox:
         for attempt in range(500):
             alive = _live_processes(self.uid)
             if alive == [] or (alive is None and attempt == 3):  # without /proc: 3 times
+                self._wait_for_the_dead_to_be_reaped()
                 return
             subprocess.run([PYTHON, "-I", "-S", "-c", KILLER, str(self.uid), str(self.gid)],
                            stdin=subprocess.DEVNULL, capture_output=True)
             time.sleep(0.01)
         raise SandboxError(f"processes of {self.user} survive SIGKILL: "
                            f"{_live_processes(self.uid)}")
+
+    def _wait_for_the_dead_to_be_reaped(self, most_seconds: float = 30.0):
+        """A fork bomb's killed children are orphans that init reaps when it gets to
+        them (seen slow on Debian 13 in a chroot); until then they count towards the
+        user's process limit, and the next run could not even start its compiler."""
+        deadline = time.monotonic() + most_seconds
+        while time.monotonic() < deadline and _live_processes(self.uid, zombies=True):
+            time.sleep(0.05)
 
     def _sweep_shared_temp(self):
         """Without private temporary folders, removes what the user left in the shared
