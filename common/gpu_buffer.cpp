@@ -37,24 +37,28 @@ GpuBuffer& GpuBuffer::operator=(GpuBuffer&& other) noexcept {
     return *this;
 }
 
-void GpuBuffer::bindStorage(GLuint binding) const {
+// Binds the buffer to `binding` of `target`, after checking that this GL allows a
+// block of its size (GL_MAX_..._BLOCK_SIZE, named `limitName` in the message).
+void GpuBuffer::bindBlock(GLenum target, GLuint binding, GLenum limit,
+                          const char* kind, const char* limitName) const {
     GLint64 maxBlockBytes = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlockBytes);
+    glGetInteger64v(limit, &maxBlockBytes);
     if (maxBlockBytes > 0 && static_cast<GLint64>(bytes_) > maxBlockBytes)
         fail(ExitCode::GlProblem,
-             "a storage buffer of " + std::to_string(bytes_) + " bytes exceeds this GL's "
-             "GL_MAX_SHADER_STORAGE_BLOCK_SIZE of " + std::to_string(maxBlockBytes));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_);
+             std::string("a ") + kind + " of " + std::to_string(bytes_) +
+                 " bytes exceeds this GL's " + limitName + " of " +
+                 std::to_string(maxBlockBytes));
+    glBindBufferBase(target, binding, id_);
+}
+
+void GpuBuffer::bindStorage(GLuint binding) const {
+    bindBlock(GL_SHADER_STORAGE_BUFFER, binding, GL_MAX_SHADER_STORAGE_BLOCK_SIZE,
+              "storage buffer", "GL_MAX_SHADER_STORAGE_BLOCK_SIZE");
 }
 
 void GpuBuffer::bindUniform(GLuint binding) const {
-    GLint maxBlockBytes = 0;
-    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &maxBlockBytes);
-    if (maxBlockBytes > 0 && static_cast<GLint64>(bytes_) > maxBlockBytes)
-        fail(ExitCode::GlProblem,
-             "a uniform buffer of " + std::to_string(bytes_) + " bytes exceeds this GL's "
-             "GL_MAX_UNIFORM_BLOCK_SIZE of " + std::to_string(maxBlockBytes));
-    glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_);
+    bindBlock(GL_UNIFORM_BUFFER, binding, GL_MAX_UNIFORM_BLOCK_SIZE, "uniform buffer",
+              "GL_MAX_UNIFORM_BLOCK_SIZE");
 }
 
 void GpuBuffer::write(const void* data, size_t bytes, size_t offset) {

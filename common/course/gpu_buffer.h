@@ -41,6 +41,8 @@ public:
     size_t bytes() const { return bytes_; }
 
 private:
+    void bindBlock(GLenum target, GLuint binding, GLenum limit, const char* kind,
+                   const char* limitName) const;
     GLuint id_ = 0;
     size_t bytes_ = 0;
 };
