@@ -65,6 +65,9 @@ def describe_exit(code, output: str = "", timeout: float | None = None) -> str:
     limits = sandbox.current_limits()
     if code is None:
         return f"did not finish within {timeout or limits.wall_seconds} s (killed)"
+    if code == "total":
+        return (f"was stopped: the whole grading may take {limits.total_seconds} s, and "
+                "they were spent")
     if code == "output":
         return f"printed more than {limits.output_mb} MiB (killed)"
     if code == "disk":

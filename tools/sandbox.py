@@ -66,6 +66,10 @@ class Limits:
     cpu_seconds: int = 120      # per process; SIGXCPU, then SIGKILL 5 s later
     wall_seconds: int = 180     # per run of the program (a hung GPU or driver too)
     compile_seconds: int = 300  # per compiler or linker run
+    # All of one grading's compiles and runs: what is left when it is spent scores 0,
+    # so a crawling submission still gets its results before Gradescope's time-out
+    # (10 minutes unless the instructor sets more) ends the autograder with none.
+    total_seconds: int = 480
     memory_mb: int = 4096       # address space per process (llvmpipe needs ~1 GiB)
     processes: int = 128        # processes and threads of the user at once
     file_mb: int = 256          # any one file it writes
@@ -93,7 +97,8 @@ class Limits:
 
     def describe(self) -> str:
         return (f"{self.cpu_seconds} s of CPU per process, {self.wall_seconds} s of wall "
-                f"time per run ({self.compile_seconds} s to compile a file), "
+                f"time per run ({self.compile_seconds} s to compile a file; "
+                f"{self.total_seconds} s for the whole grading), "
                 f"{self.memory_mb} MiB of address space per process, {self.processes} "
                 f"processes and threads, {self.file_mb} MiB per file, {self.open_files} "
                 f"open files, {self.output_mb} MiB of output, {self.disk_mb} MiB in its "
@@ -103,7 +108,8 @@ class Limits:
 @dataclass
 class Run:
     """code: the exit code, minus the signal number when a signal ended it, None when
-    the wall clock ran out, "output" or "disk" when it wrote too much."""
+    the wall clock ran out, "total" when the grading's whole time did (or had: the run
+    was not started), "output" or "disk" when it wrote too much."""
     code: int | str | None
     output: str
 
@@ -281,6 +287,7 @@ class Sandbox:
         self.user, self.uid, self.gid = None, None, None
         self.closed: list[Path] = []
         self._lock = None
+        self.ends = None  # monotonic time when the grading's total_seconds are spent
 
     # ---------------------------------------------------------------- set-up
 
@@ -314,6 +321,7 @@ class Sandbox:
         self.kill_all()
         self._sweep_shared_temp()
         self._token = _ACTIVE.set(self)
+        self.ends = time.monotonic() + self.limits.total_seconds
         return self
 
     def __exit__(self, *exc):
@@ -410,6 +418,11 @@ class Sandbox:
         """Runs argv in cwd inside the sandbox; returns only when every process of the
         run is gone."""
         timeout = timeout or self.limits.wall_seconds
+        left = None if self.ends is None else self.ends - time.monotonic()
+        if left is not None and left <= 0:
+            return Run("total", "")
+        out_of_total = left is not None and left < timeout
+        timeout = min(timeout, left) if left is not None else timeout
         process = subprocess.Popen(self.command(argv, cpu_seconds or self.limits.cpu_seconds),
                                    cwd=cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                    stderr=subprocess.STDOUT, env=self.environment(cwd),
@@ -451,7 +464,7 @@ class Sandbox:
         if flooded.is_set():
             return Run("output", text)
         if reason == "time":
-            return Run(None, text)
+            return Run("total" if out_of_total else None, text)
         if reason == "disk":
             return Run("disk", text)
         return Run(code, text)

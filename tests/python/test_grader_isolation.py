@@ -33,6 +33,8 @@ FAST = {"COURSE_GRADE_WALL_SECONDS": "4", "COURSE_GRADE_CPU_SECONDS": "3",
         "COURSE_GRADE_PROCESSES": "48", "COURSE_GRADE_MEMORY_MB": "1536",
         "COURSE_GRADE_OUTPUT_MB": "4"}
 
+ALL_OF_04 = list(grader.SPECS["04"])  # before short_grading keeps only the first
+
 pytestmark = pytest.mark.skipif(os.geteuid() != 0, reason="the grader separates users only "
                                 "when it runs as root (as on Gradescope)")
 
@@ -350,6 +352,23 @@ def test_a_program_that_never_exits(solution, tmp_path):
     assert results["score"] == 0
     assert "did not finish within 4 s (killed)" in output
     assert took < 30
+
+
+def test_a_crawling_submission_still_gets_its_results(solution, tmp_path, monkeypatch):
+    """Gradescope ends an autograder that runs past its time-out with no results at all,
+    so the grading as a whole has a budget (COURSE_GRADE_TOTAL_SECONDS): runs that
+    would pass it are stopped or never started, and every test still gets its 0 and
+    its reason."""
+    monkeypatch.setitem(grader.SPECS, "04", ALL_OF_04)
+    monkeypatch.setenv("COURSE_GRADE_TOTAL_SECONDS", "10")
+    code = "for (;;) ::sleep(1);"
+    results, _, report, _ = grade(hostile(solution, tmp_path / "s", code), tmp_path)
+    outputs = [test["output"] for test in results["tests"]]
+    assert results["score"] == 0 and len(outputs) == 4
+    budget = "was stopped: the whole grading may take 10 s, and they were spent"
+    assert "did not finish within 4 s" in outputs[0] or budget in outputs[0]
+    assert all(budget in output for output in outputs[2:]), outputs
+    assert "10 s for the whole grading" in report
 
 
 def test_a_child_left_behind_is_killed_before_the_images_are_read(solution, tmp_path):
