@@ -42,10 +42,12 @@ def normalize(vectors):
 # 1D: ∫₀^π sin x dx = 2. Each function returns N samples of f(x) / p(x).
 # ---------------------------------------------------------------------------------------
 
+# --8<-- [start:uniform]
 def sine_uniform_samples(rng, count):
     """x uniform on [0, π]: p = 1/π, so each sample is π sin x."""
     x = rng.uniform(0.0, np.pi, count)
     return np.sin(x) / (1.0 / np.pi)
+# --8<-- [end:uniform]
 
 
 def tent_pdf(x):
@@ -62,10 +64,12 @@ def sample_tent(rng, count):
     return np.where(u < 0.5, left, right)
 
 
+# --8<-- [start:importance]
 def sine_importance_samples(rng, count):
     """x from the tent: f/p stays between π/2 and π²/4, so the samples vary little."""
     x = sample_tent(rng, count)
     return np.sin(x) / tent_pdf(x)
+# --8<-- [end:importance]
 
 
 # ---------------------------------------------------------------------------------------
@@ -83,6 +87,7 @@ def uniform_hemisphere(rng, count):
     return directions, np.full(count, 1.0 / (2.0 * np.pi))
 
 
+# --8<-- [start:cosine]
 def cosine_hemisphere(rng, count):
     """Malley's method: a uniform point on the unit disk, lifted straight up onto the
     hemisphere. The directions' pdf is cos θ / π."""
@@ -91,6 +96,7 @@ def cosine_hemisphere(rng, count):
     x, y = radius * np.cos(phi), radius * np.sin(phi)
     z = np.sqrt(np.maximum(0.0, 1.0 - x**2 - y**2))  # max: rounding could dip below 0
     return np.stack([x, y, z], axis=-1), z / np.pi
+# --8<-- [end:cosine]
 
 
 def sky_irradiance_samples(directions, pdf, sky_radiance=SKY_RADIANCE):
@@ -180,6 +186,7 @@ def sample_light_geometry(rng, count, light, point, normal):
     return cos_floor, cos_light, distance_squared
 
 
+# --8<-- [start:light]
 def light_area_samples(rng, count, light=FIGURE_LIGHT, point=FLOOR_POINT,
                        normal=FLOOR_NORMAL):
     """One sample of E per point picked uniformly on the light (pdf 1/A per m²):
@@ -187,6 +194,7 @@ def light_area_samples(rng, count, light=FIGURE_LIGHT, point=FLOOR_POINT,
     dω/dA, which turns "per m² of light" into "per steradian seen from the point"."""
     cos_floor, cos_light, d2 = sample_light_geometry(rng, count, light, point, normal)
     return light.radiance * cos_floor * (cos_light / d2) * light.area()
+# --8<-- [end:light]
 
 
 def light_area_samples_forgot_jacobian(rng, count, light=FIGURE_LIGHT, point=FLOOR_POINT,

@@ -131,20 +131,31 @@ def has_exercises(root: Path, chapter: str) -> bool:
                if path.suffix in MARKED_SUFFIXES)
 
 
-def imported_prototypes(test_file: Path, prototypes: Path) -> set[Path]:
-    """The python_prototypes modules a chapter's tests import (and what they import)."""
+def imported_modules(test_file: Path, folders: list[Path]) -> set[Path]:
+    """The modules of `folders` (python_prototypes, the tests' own helpers) that a
+    chapter's tests import, and what those import in turn."""
     wanted, queue = set(), [test_file]
     while queue:
         text = queue.pop().read_text()
         for module in re.findall(r"^\s*(?:from|import)\s+([\w.]+)", text, flags=re.M):
-            candidate = prototypes / (module.replace(".", "/") + ".py")
-            if candidate.exists() and candidate not in wanted:
-                wanted.add(candidate)
-                queue.append(candidate)
-                package_init = candidate.parent / "__init__.py"
-                if package_init.exists():
-                    wanted.add(package_init)
+            for folder in folders:
+                candidate = folder / (module.replace(".", "/") + ".py")
+                if candidate.exists() and candidate not in wanted:
+                    wanted.add(candidate)
+                    queue.append(candidate)
+                    package_init = candidate.parent / "__init__.py"
+                    if package_init.exists():
+                        wanted.add(package_init)
     return wanted
+
+
+def page_prototypes(root: Path, chapter: str) -> list[str]:
+    """The python_prototypes files the chapter's page shows code of: the starter's page
+    resolves those snippets, and the student runs the prototype."""
+    page = root / "book" / "docs" / "chapters" / f"{chapter}.md"
+    if not page.exists():
+        return []
+    return sorted(set(re.findall(r'--8<-- "(python_prototypes/[\w/]+\.py)', page.read_text())))
 
 
 def chapter_code(root: Path, chapter: str) -> tuple[str, str]:
@@ -237,8 +248,8 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
                      "third_party", "tests/python/conftest.py",
                      "tests/python/test_command_line.py", ".gitignore"):
         copy(relative)
-    if (root / "assets" / "data").exists():
-        copy("assets/data")  # small source data (the teapot patches) the build may use
+    if (root / "assets").exists():
+        copy("assets")  # the scene files, and the small source data the build uses
     for generator in ("python_prototypes/teapot.py", "python_prototypes/gems.py"):
         if (root / generator).exists():
             copy(generator)  # cmake/Assets.cmake runs them at build time
@@ -250,8 +261,11 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         target = out / test.relative_to(root)
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(without_planted_mistakes(test.read_text(), solution, starter))
-        for module in imported_prototypes(test, root / "python_prototypes"):
+        for module in imported_modules(test, [root / "python_prototypes",
+                                              root / "tests" / "python"]):
             copy(str(module.relative_to(root)))
+    for prototype in page_prototypes(root, chapter):
+        copy(prototype)
 
     # The chapter itself, with the solutions taken out.
     for top in ("chapters", "shaders"):

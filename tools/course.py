@@ -160,7 +160,8 @@ def cmd_list(args):
 # need samples to look like their book page (about half a minute on llvmpipe).
 SHOWCASE_OPTIONS = {
     "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
-    "11_bvh": ["--width", "320", "--height", "320", "--spp", "48"],
+    "11_light_sampling": ["--width", "400", "--height", "400", "--spp", "64"],
+    "12_bvh": ["--width", "320", "--height", "320", "--spp", "48"],
     "A1_gl33_fragment": ["--width", "400", "--height", "400", "--spp", "64"],
 }
 
@@ -478,11 +479,13 @@ def render_book_figures(draft: bool = False):
     for a, b in book_diff_pairs():
         lines = [l for _, d in checkpoint_diff(a, b) for l in d]
         (GENERATED / f"diff_{a[:2]}_{b[:2]}.diff").write_text("\n".join(lines) + "\n")
+    import editions
+    (GENERATED / "diff_sizes.md").write_text(editions.diff_size_table(ROOT, book_diff_pairs()))
 
 
 # An appendix starts as a copy of a numbered chapter, not of whatever comes before it in
 # CMakeLists.txt: the book shows its diff against that chapter (diff_10_A1.diff).
-APPENDIX_BASES = {"A1_gl33_fragment": "10_path_tracing"}
+APPENDIX_BASES = {"A1_gl33_fragment": "11_light_sampling"}
 
 
 def book_diff_pairs() -> list[tuple[str, str]]:
@@ -518,14 +521,14 @@ def cmd_bench(args):
     import bench
     status = 0
     if args.which in ("all", "mitsuba"):
-        build(["10_path_tracing"])
-        status |= bench.main(binary(find_chapter("10")), args.size, args.spp, args.depth)
+        build(["11_light_sampling"])
+        status |= bench.main(binary(find_chapter("11")), args.size, args.spp, args.depth)
     if args.which in ("all", "bvh"):
         # The 100 000- and 1 000 000-triangle teapots are made only for this.
-        build(["11_bvh", "course_benchmark_assets"])
+        build(["12_bvh", "course_benchmark_assets"])
         import bench_bvh
         machine = f"{bench.cpu_model()} ({os.cpu_count()} cores)"
-        status |= bench_bvh.main(binary(find_chapter("11")), BUILD / "assets" / "meshes",
+        status |= bench_bvh.main(binary(find_chapter("12")), BUILD / "assets" / "meshes",
                                  machine)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
@@ -684,7 +687,7 @@ def main():
                       "the solutions, no answer notes (into book/site-student)")
 
     bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box; "
-                             "chapter 11's BVH against brute force, 552 to 1M triangles")
+                             "chapter 12's BVH against brute force, 552 to 1M triangles")
     bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
                        default="all", help="which benchmark (default: mitsuba and bvh; "
                        "grading: one submission of each chapter on one core)")

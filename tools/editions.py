@@ -230,6 +230,33 @@ def checkpoint_diff(old: dict[str, str], new: dict[str, str], a: str,
     return result
 
 
+# What one checkpoint should add to the one before it, at most: a lesson, no more.
+DIFF_TARGET = 600
+
+
+def changed_lines(diffs: list[tuple[str, list[str]]]) -> tuple[int, int]:
+    """(added, removed) lines of a checkpoint_diff, headers not counted."""
+    added = sum(1 for _, lines in diffs for l in lines
+                if l.startswith("+") and not l.startswith("+++"))
+    removed = sum(1 for _, lines in diffs for l in lines
+                  if l.startswith("-") and not l.startswith("---"))
+    return added, removed
+
+
+def diff_size_table(root: Path, pairs: list[tuple[str, str]]) -> str:
+    """The book index's table: each checkpoint diff's files and changed lines."""
+    lines = ["| checkpoint | files | added | removed | changed |",
+             "| --- | ---: | ---: | ---: | ---: |"]
+    for a, b in pairs:
+        diffs = checkpoint_diff(checkpoint_texts(root, a), checkpoint_texts(root, b), a, b)
+        added, removed = changed_lines(diffs)
+        total = added + removed
+        mark = "" if total <= DIFF_TARGET else " (over)"
+        lines.append(f"| `./course diff {a[:2]} {b[:2]}` | {len(diffs)} | {added} | "
+                     f"{removed} | {total}{mark} |")
+    return "\n".join(lines) + "\n"
+
+
 def diff_text(old: dict[str, str], new: dict[str, str], a: str, b: str) -> str:
     """The whole diff, as the book includes it (book/docs/generated/diff_NN_MM.diff)."""
     return "\n".join(line for _, lines in checkpoint_diff(old, new, a, b)
@@ -255,6 +282,13 @@ def write_student_sources(root: Path, out: Path, diff_pairs: list[tuple[str, str
             (out / relative).parent.mkdir(parents=True, exist_ok=True)
             (out / relative).write_text(text)
     shutil.copytree(root / "common", out / "common")
+    shutil.copytree(root / "assets", out / "assets")  # the scene files pages show
+    # Prototypes whose code a page shows (the numpy Monte Carlo of chapter 10): they
+    # teach, they are not exercises; the reference renderers are not copied.
+    for page in sorted((root / "book" / "docs" / "chapters").glob("*.md")):
+        for shown in re.findall(r'--8<-- "(python_prototypes/[\w/]+\.py)', page.read_text()):
+            (out / shown).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(root / shown, out / shown)
     generated = out / "book" / "docs" / "generated"
     generated.mkdir(parents=True)
     for table in (root / "book" / "docs" / "generated").glob("*.md"):

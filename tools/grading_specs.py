@@ -9,7 +9,7 @@ kind 'statistical': for random pictures. The submission renders the args several
   at its own seeds (`sampling`); each region's mean must agree with the solution's
   many-sample render in a z-test with the submission's own noise
   (tools/grading_statistics.py), so any correct estimator passes, whatever its noise.
-kind 'traversal': chapter 11's tree: the solution's nearest hits, and about its work.
+kind 'traversal': chapter 12's tree: the solution's nearest hits, and about its work.
 
 Points: a plausible wrong implementation should lose at least half, a correct one
 nothing, so each chapter's tests weigh what they catch
@@ -57,7 +57,7 @@ TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two s
 # so it takes fewer.
 PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=2048)
 TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
-# Chapter 11's picture tells a right tree from a wrong one by whole missing triangles:
+# Chapter 12's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
 # Chapter 04's three front spheres in front of the big one, close up with a long lens:
@@ -137,16 +137,30 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
                   "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
     ],
-    # Chapter 10: a path-traced picture is random, and any correct estimator of the same
-    # light may draw its numbers in another order or map them another valid way: graded
-    # by its expectation (tools/grading_statistics.py), never by reproducing the
-    # solution's noise. Each test probes other code: direct light (light sampling and
-    # MIS against BSDF sampling at the first bounce), a path's length (four bounces: one
-    # too many or too few shows), Russian roulette (from the third bounce on), light
-    # sampling without MIS. Three of them light the room with two lights of different
-    # sizes (assets/scenes/cornell_two_lights.scene): every scene the chapter ships has
-    # one light, where a density not divided by the number of lights goes unseen.
+    # Chapter 10: a path-traced picture is random, and any correct sampler of the same
+    # directions may draw its numbers in another order or map them another valid way:
+    # graded by its expectation (tools/grading_statistics.py), never by reproducing the
+    # solution's noise. Each test probes other code: direct light (the first bounce's
+    # direction and weight), a path's length (two bounces: one too many or too few shows
+    # through BSDF sampling's noise; at four, a fifth bounce's light would not), the
+    # whole series, and a room lit by two lights of different sizes.
     "10": [
+        GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, two bounces", 2.5, [*TINY, "--depth", "2"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, global illumination", 2.5, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("two lights, global illumination", 2.5, [*TINY, *TWO_LIGHTS],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Chapter 11: as chapter 10, graded by expectation. Each test probes other code:
+    # direct light (light sampling and MIS against BSDF sampling at the first bounce), a
+    # path's length (four bounces), Russian roulette (from the third bounce on), light
+    # sampling without MIS. Three of them light the room with two lights of different
+    # sizes (assets/scenes/cornell_two_lights.scene): every other scene the chapter ships
+    # has one light, where a density not divided by the number of lights goes unseen.
+    "11": [
         GradeTest("two lights, direct light", 2.5, [*TINY, *TWO_LIGHTS, "--direct"],
                   "statistical", sampling=PATH_SAMPLING),
         GradeTest("two lights, four bounces", 2.5, [*TINY, *TWO_LIGHTS, "--depth", "4"],
@@ -157,7 +171,7 @@ SPECS: dict[str, list[GradeTest]] = {
                   [*TINY, *TWO_LIGHTS, "--estimator", "nee"], "statistical",
                   "after_due_date", sampling=PATH_SAMPLING),
     ],
-    "11": [
+    "12": [
         # The tree must give the pictures of brute force (a slab test that enters every
         # box does too, only slowly) and do about the solution's work, but need not be
         # the solution's tree: another valid SAH (another bin count, the cost divided by

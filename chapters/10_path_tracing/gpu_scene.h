@@ -1,6 +1,5 @@
 // A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
-// triangles (meshes included, placed in the world), materials, and the list of
-// emitters that next-event estimation samples.
+// triangles (meshes included, placed in the world) and materials.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -14,7 +13,6 @@ struct GpuScene {
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;
     std::vector<gpu::Material> materials;
-    std::vector<gpu::Emitter> emitters;
     float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
 
     size_t shapeCount() const { return spheres.size() + quads.size() + triangles.size(); }

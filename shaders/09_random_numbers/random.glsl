@@ -1,7 +1,7 @@
 // Random numbers on the GPU: every pixel owns a generator, the "hybrid Taus" of
 // GPU Gems 3 (chapter 37), whose state of four 32-bit words lives in a storage buffer
 // between dispatches. Bit for bit the same as python_prototypes/rng.py, which the
-// chapter 09 checks compare it with. Chapter 10 uses this file unchanged.
+// chapter 09 checks compare it with. The later chapters use it unchanged.
 
 // --8<-- [start:state]
 // Three Tausworthe generators (x, y, z) and one linear congruential generator (w),

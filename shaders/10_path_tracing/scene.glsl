@@ -1,6 +1,6 @@
-// The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list. Every ray tests every shape (chapter 11's
-// BVH does better); the Cornell scenes have a few dozen shapes, the gems ~150.
+// The scene: spheres, quads and triangles in storage buffers, each with a material.
+// Every ray tests every shape (chapter 12's BVH does better); the Cornell scenes have a
+// few dozen shapes, the gems ~150.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
@@ -18,7 +18,6 @@ struct Hit {
     vec3 normal;     // unit length, on the shape's front side (outside, for a sphere)
     bool front;      // did the ray arrive at the front?
     uint material;
-    uint emitter;    // index into the emitter list, or NO_EMITTER
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
@@ -72,11 +71,11 @@ bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t
     return t > tMin && t < tMax;
 }
 
-// Fills in a hit from the shape's front normal, material and emitter.
-Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
+// Fills in a hit from the shape's front normal and material.
+Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material) {
     vec3 normal = normalize(frontNormal);
     return Hit(t, ray.origin + t * ray.direction, normal,
-               dot(normal, ray.direction) < 0.0, material, emitter);
+               dot(normal, ray.direction) < 0.0, material);
 }
 
 // --8<-- [start:nearest]
@@ -99,28 +98,14 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = spheres[index];
-        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material,
-                      s.emitter);
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material);
     } else if (kind == SHAPE_QUAD) {
         Quad q = quads[index];
-        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
+        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material);
     } else if (kind == SHAPE_TRIANGLE) {
         Triangle tr = triangles[index];
-        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
-                      tr.emitter);
+        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material);
     }
     return kind >= 0;
 }
 // --8<-- [end:nearest]
-
-// Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
-bool anyHit(Ray ray, float tMin, float tMax) {
-    float t;
-    for (int i = 0; i < spheres.length(); ++i)
-        if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
-    for (int i = 0; i < quads.length(); ++i)
-        if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
-    for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, triangles[i], tMin, tMax, t)) return true;
-    return false;
-}

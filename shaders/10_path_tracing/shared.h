@@ -11,31 +11,20 @@
 #define QUADS_BINDING 3      // its parallelograms (walls, lights)
 #define RANDOM_BINDING 4     // each pixel's generator state: one uvec4, kept all along
 #define MATERIALS_BINDING 5  // albedo and emission, picked by each shape's `material`
-#define EMITTERS_BINDING 6   // the shapes that emit: what next-event estimation samples
-#define RAY_COUNT_BINDING 7  // rays traced by each pixel so far, for the --json stats
+#define RAY_COUNT_BINDING 6  // rays traced by each pixel so far, for the --json stats
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
 
-// Which estimator of the light arriving at a surface (--estimator).
-#define ESTIMATOR_NEE 0   // sample the lights only (next-event estimation)
-#define ESTIMATOR_BSDF 1  // sample the BSDF only; light counts when a ray hits it
-#define ESTIMATOR_MIS 2   // both, weighted by multiple importance sampling
-
-// What kind of shape an emitter is.
+// The kinds of shape, for the nearest hit to say which it found.
 #define SHAPE_SPHERE 0
 #define SHAPE_QUAD 1
 #define SHAPE_TRIANGLE 2
-#define NO_EMITTER 0xFFFFFFFFu  // a shape's `emitter` when its material does not emit
 
 // New rays start RAY_OFFSET * (1 + the hit's largest |coordinate|) off the surface,
 // along its normal, so that float32 rounding does not make them find the surface they
 // leave (chapter 05). Relative, like float32's precision: 0.2 mm in the 2 m Cornell box.
 #define RAY_OFFSET 1e-4
-
-// Russian roulette starts after this many bounces: the first few are cheap and carry
-// most of the light, so every path makes them.
-#define ROULETTE_AFTER 3
 
 // 8x8 tiles of invocations: neighbouring rays run together (chapter 02).
 #define TILE_SIZE 8
@@ -53,41 +42,34 @@ using vec4 = glm::vec4;
 // --8<-- [start:structs]
 // std430 aligns a vec3 to 16 bytes but gives it only 12, so the number after each vec3
 // fills its fourth slot: exactly where C++ puts it after a 12-byte glm::vec3. Each shape
-// names its material (an index into the materials) and its emitter (its index in the
-// emitter list, or NO_EMITTER).
+// names its material (an index into the materials).
 struct Sphere {
     vec3 center;
     float radius;
     uint material;
-    uint emitter;
     uint unused0;  // std430 rounds the struct up to a multiple of 16 bytes, its
     uint unused1;  // alignment: these give C++ the same 32
+    uint unused2;
 };
 struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin + edge2
     vec3 origin;
     uint material;
     vec3 edge1;
-    uint emitter;
+    uint unused0;
     vec3 edge2;  // the front is the side cross(edge1, edge2) points to
-    uint unused;
+    uint unused1;
 };
 struct Triangle {  // the front is where the corners run counter-clockwise
     vec3 p0;
     uint material;
     vec3 p1;
-    uint emitter;
+    uint unused0;
     vec3 p2;
-    uint unused;
+    uint unused1;
 };
 struct Material {
     vec4 albedo;    // rgb: the reflected fraction of the light (Lambertian)
     vec4 emission;  // rgb: the radiance it gives out from its front; zero if none
-};
-struct Emitter {
-    uint shape;   // SHAPE_SPHERE, SHAPE_QUAD or SHAPE_TRIANGLE
-    uint index;   // into the spheres, quads or triangles
-    float area;   // its surface area: uniform sampling has the density 1 / area
-    float power;  // unused; room for picking bright lights more often
 };
 // --8<-- [end:structs]
 
@@ -119,9 +101,9 @@ layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
     uint seed;         // --seed, for seed.comp
     uint sampleIndex;  // how many samples the image's mean holds already
     int maxBounces;    // --depth: 1 is direct light only
-    int estimator;     // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
     uint unused2;      // std140 rounds a block up to 16 bytes as well
     uint unused3;
+    uint unused4;
 };
 // --8<-- [end:parameters]
 
@@ -129,18 +111,17 @@ layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
 // The offsets GLSL's std430 (buffers) and std140 (the block) rules give; a C++ struct
 // that differs would scramble the scene or the camera silently, so the compiler checks.
 static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, radius) == 12 &&
-                  offsetof(Sphere, material) == 16 && offsetof(Sphere, emitter) == 20,
+                  offsetof(Sphere, material) == 16,
               "std430 Sphere");
 static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
-                  offsetof(Quad, edge1) == 16 && offsetof(Quad, emitter) == 28 &&
-                  offsetof(Quad, edge2) == 32 && offsetof(Quad, unused) == 44,
+                  offsetof(Quad, edge1) == 16 && offsetof(Quad, unused0) == 28 &&
+                  offsetof(Quad, edge2) == 32 && offsetof(Quad, unused1) == 44,
               "std430 Quad: each uint fills the fourth slot of the vec3 before it");
 static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, material) == 12 &&
-                  offsetof(Triangle, p1) == 16 && offsetof(Triangle, emitter) == 28 &&
-                  offsetof(Triangle, p2) == 32 && offsetof(Triangle, unused) == 44,
+                  offsetof(Triangle, p1) == 16 && offsetof(Triangle, unused0) == 28 &&
+                  offsetof(Triangle, p2) == 32 && offsetof(Triangle, unused1) == 44,
               "std430 Triangle: each uint fills the fourth slot of the vec3 before it");
 static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std430 Material");
-static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std430 Emitter");
 static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
                   offsetof(PinholeCamera, forward) == 16 &&
                   offsetof(PinholeCamera, sensorWidth) == 28 &&
@@ -149,8 +130,7 @@ static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength
 static_assert(offsetof(PathParameters, imageSize) == 64 &&
                   offsetof(PathParameters, seed) == 72 &&
                   offsetof(PathParameters, sampleIndex) == 76 &&
-                  offsetof(PathParameters, maxBounces) == 80 &&
-                  offsetof(PathParameters, estimator) == 84 && sizeof(PathParameters) == 96,
+                  offsetof(PathParameters, maxBounces) == 80 && sizeof(PathParameters) == 96,
               "std140 PathParameters");
 }  // namespace gpu
 #endif

@@ -1,5 +1,5 @@
 #version 330 core
-// Appendix A1: chapter 10's path tracer as a fragment shader. Each pass draws one
+// Appendix A1: chapter 11's path tracer as a fragment shader. Each pass draws one
 // triangle over the whole image, and this shader runs once per pixel: it adds one
 // sample, a path from the camera that bounces off Lambertian surfaces, gathering the
 // light of the area lights it finds (by hitting them, by aiming shadow rays at them, or
@@ -118,15 +118,15 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
 void main() {
     // --8<-- [start:pixel]
     // gl_FragCoord is the pixel's centre, (x + 0.5, y + 0.5). Row y of the framebuffer
-    // holds row y of the image counted from the top, as in chapter 10: upside down by
+    // holds row y of the image counted from the top, as in chapter 11: upside down by
     // GL's convention, but glReadPixels then hands back the top row first, the order
-    // of an image file. The pixel sees the same ray and random numbers as in chapter 10.
+    // of an image file. The pixel sees the same ray and random numbers as in chapter 11.
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     ivec2 samePixel = ivec2(pixel);  // where the previous pass left this pixel's state
     // --8<-- [end:pixel]
 
     // --8<-- [start:accumulate]
-    // As in chapter 10: the pixel's generator continues from the previous pass, and the
+    // As in chapter 11: the pixel's generator continues from the previous pass, and the
     // image holds the running mean of the samples.
     RandomState random = RandomState(texelFetch(previousRandom, samePixel, 0));
     uint rays = sampleIndex == 0u ? 0u : texelFetch(previousRays, samePixel, 0).r;

@@ -1,6 +1,6 @@
 // The scene: spheres, quads and triangles in a buffer texture, each with a material
 // and, if it glows, its place in the emitter list (materials and emitters are in the
-// uniform block of shared.h). Every ray tests every shape (chapter 11's BVH does
+// uniform block of shared.h). Every ray tests every shape (chapter 12's BVH does
 // better); the Cornell scenes have a few dozen shapes, the gems ~150.
 
 // --8<-- [start:fetch]
@@ -8,7 +8,7 @@
 // texelFetch(primitives, i) is the i-th RGBA32F texel, any i, no filtering.
 uniform samplerBuffer primitives;
 
-// The shapes as chapter 10's shaders see them, built here from their texels.
+// The shapes as chapter 11's shaders see them, built here from their texels.
 struct Sphere {
     vec3 center;
     float radius;

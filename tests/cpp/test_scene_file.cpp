@@ -1,4 +1,4 @@
-// The scene files of chapters 10, 11 and the appendix (common/course/scene_file.h):
+// The scene files of chapters 10, 11, 12 and the appendix (common/course/scene_file.h):
 // every statement read as documented, the exact message for every mistake, round trips
 // through formatSceneFile, the shipped scenes, and no crash or hang on garbage.
 #include <gtest/gtest.h>

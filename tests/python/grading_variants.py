@@ -55,7 +55,7 @@ def apply(variant: Variant, root: Path, destination: Path) -> Path:
 
 # ---------------------------------------------------------------- chapter 10
 
-T = "10_path_tracing"
+P = "10_path_tracing"
 COSINE = """    float radius = sqrt(u.x);
     float angle = 2.0 * PI * u.y;
     vec3 local = vec3(radius * cos(angle), radius * sin(angle), sqrt(max(0.0, 1.0 - u.x)));
@@ -65,18 +65,15 @@ UNIFORM = """    float z = u.x;  // cos(theta) uniform in [0, 1]: uniform over t
     float angle = 2.0 * PI * u.y;
     vec3 local = vec3(radius * cos(angle), radius * sin(angle), z);
 """
-LIGHT_PDF = "    return areaPdf * distance * distance / cosLight;\n"
-CHOICE = ("    uint chosen = min(uint(random01(random) * float(emitterCount)), "
-          "emitterCount - 1u);\n")
-HIT_WEIGHT = "weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));"
+THROUGHPUT = "        throughput *= material.albedo.rgb;\n"
 BOUNCE_END = "if (!hit.front || bounce == maxBounces) break;"
 
-CHAPTER_10 = [
-    Variant(T, "cosine sampler with u.x and u.y swapped", True, (
-        Edit("shaders/sampling.glsl", COSINE, COSINE.replace("u.x", "U.Y")
-             .replace("u.y", "u.x").replace("U.Y", "u.y")),)),
-    Variant(T, "concentric (Shirley-Chiu) disk mapping", True, (
-        Edit("shaders/sampling.glsl", COSINE, """    vec2 square = 2.0 * u - 1.0;
+
+def swapped(text: str) -> str:
+    return text.replace("u.x", "U.Y").replace("u.y", "u.x").replace("U.Y", "u.y")
+
+
+CONCENTRIC = """    vec2 square = 2.0 * u - 1.0;
     vec2 disk = vec2(0.0);
     if (square.x != 0.0 || square.y != 0.0) {
         bool wide = abs(square.x) > abs(square.y);
@@ -86,7 +83,46 @@ CHAPTER_10 = [
         disk = radius * vec2(cos(angle), sin(angle));
     }
     vec3 local = vec3(disk, sqrt(max(0.0, 1.0 - dot(disk, disk))));
-"""),)),
+"""
+
+CHAPTER_10 = [
+    Variant(P, "cosine sampler with u.x and u.y swapped", True, (
+        Edit("shaders/sampling.glsl", COSINE, swapped(COSINE)),)),
+    Variant(P, "concentric (Shirley-Chiu) disk mapping", True, (
+        Edit("shaders/sampling.glsl", COSINE, CONCENTRIC),)),
+    Variant(P, "uniform hemisphere sampling with its own density 1/(2 pi)", True, (
+        Edit("shaders/sampling.glsl", COSINE, UNIFORM),
+        Edit("shaders/path.comp", THROUGHPUT,
+             "        throughput *= material.albedo.rgb * 2.0 * "
+             "max(dot(hit.normal, direction), 0.0);\n"))),
+
+    Variant(P, "uniform hemisphere directions treated as cosine-distributed", False, (
+        Edit("shaders/sampling.glsl", COSINE, UNIFORM),)),
+    Variant(P, "the BSDF's 1/pi kept in the throughput", False, (
+        Edit("shaders/path.comp", THROUGHPUT,
+             "        throughput *= material.albedo.rgb / PI;\n"),)),
+    Variant(P, "the cosine multiplied in as well as sampled", False, (
+        Edit("shaders/path.comp", THROUGHPUT,
+             "        throughput *= material.albedo.rgb * "
+             "max(dot(hit.normal, direction), 0.0);\n"),)),
+    Variant(P, "one bounce too many", False, (
+        Edit("shaders/path.comp", BOUNCE_END,
+             "if (!hit.front || bounce == maxBounces + 1) break;"),)),
+    Variant(P, "one bounce too few", False, (
+        Edit("shaders/path.comp", BOUNCE_END,
+             "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
+]
+
+
+# ---------------------------------------------------------------- chapter 11
+
+T = "11_light_sampling"
+LIGHT_PDF = "    return areaPdf * distance * distance / cosLight;\n"
+CHOICE = ("    uint chosen = min(uint(random01(random) * float(emitterCount)), "
+          "emitterCount - 1u);\n")
+HIT_WEIGHT = "weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));"
+
+CHAPTER_11 = [
     Variant(T, "random numbers drawn in another order (light point, then light)", True, (
         Edit("shaders/path.comp", CHOICE + "    LightPoint light = sampleEmitter(emitters"
              "[chosen], random2(random));\n",
@@ -122,8 +158,6 @@ CHAPTER_10 = [
     float areaPdf = 1.0 / totalArea;  // area_i / total, times 1 / area_i
 """))),
 
-    Variant(T, "uniform hemisphere directions treated as cosine-distributed", False, (
-        Edit("shaders/sampling.glsl", COSINE, UNIFORM),)),
     Variant(T, "light density off by a factor of pi", False, (
         Edit("shaders/sampling.glsl", LIGHT_PDF,
              "    return areaPdf * distance * distance / cosLight / PI;\n"),)),
@@ -149,7 +183,7 @@ CHAPTER_10 = [
              "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
 ]
 
-CATALOGUE = {"10": CHAPTER_10}
+CATALOGUE = {"10": CHAPTER_10, "11": CHAPTER_11}
 
 
 # ---------------------------------------------------------------- chapter 09
@@ -202,9 +236,9 @@ CHAPTER_09 = [
 CATALOGUE["09"] = CHAPTER_09
 
 
-# ---------------------------------------------------------------- chapter 11
+# ---------------------------------------------------------------- chapter 12
 
-B = "11_bvh"
+B = "12_bvh"
 SAH = """            double cost = options_.nodeCost * box.halfArea() +
                           options_.triangleCost * (left.halfArea() * leftCount +
                                                    rightAreas_[bin] * rightCount);
@@ -215,7 +249,7 @@ SLAB_PLANES = """    vec3 nearPlanes = mix(boxMin, boxMax, ray.negative);
     vec3 tFar = (farPlanes - ray.origin) * ray.inverseDirection;
 """
 
-CHAPTER_11 = [
+CHAPTER_12 = [
     Variant(B, "SAH costs divided by the node's area (split and leaf alike)", True, (
         Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost +
                           options_.triangleCost * (left.halfArea() * leftCount +
@@ -249,4 +283,4 @@ CHAPTER_11 = [
 """),)),
 ]
 
-CATALOGUE["11"] = CHAPTER_11
+CATALOGUE["12"] = CHAPTER_12

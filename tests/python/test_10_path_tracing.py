@@ -1,59 +1,42 @@
-"""Chapter 10: path tracing, checked with statistics (book/docs/maintainers.md): white
-furnaces, direct light with a closed form, three estimators agreeing, error falling like
-1/sqrt(spp), reproducible bytes, Mitsuba 3 region by region, window mode and bad scene
-files.
+"""Chapter 10: path tracing by BSDF (cosine) sampling, checked with statistics
+(book/docs/maintainers.md): white furnaces, direct light with a closed form, error
+falling like 1/sqrt(spp), reproducible bytes, Mitsuba 3 region by region, window mode
+and bad scene files. (Chapter 11's light sampling has checks of its own.)
 
-Every expected value is compared with the statistical error of the estimate: the
-standard error of a mean of N independent pixels is the spread of the pixels over
-sqrt(N). Limits of 4.5 standard errors fail a correct renderer about once in 150,000
-comparisons; the seeds are fixed, so the results do not change from run to run."""
+The limits and why: tests/python/path_checks.py."""
 
 from __future__ import annotations
 
 import json
-import math
 import subprocess
 
 import numpy as np
+import path_checks
 import pytest
+from conftest import (WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders, read_pfm,
+                      run_chapter, window_command, xvfb_available)
+from path_checks import (SCENES, SIGMAS, assert_agrees_with_mitsuba, mean_and_error,
+                         square_light_expected)
 
-from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders, read_pfm,
-                      regions_agreeing, run_chapter, window_command, xvfb_available)
-
-SCENES = ROOT / "tests" / "data" / "scenes"
 # Regions with a single pixel (the light, at 48 x 48) have no spread: numpy warns, and
 # such regions are skipped below.
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
-SIGMAS = 4.5
 
 
 def path_trace(tmp_path, name: str, *args) -> np.ndarray:
-    """Renders with chapter 10 to a PFM (linear) and returns it (height, width, 3)."""
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter("10", "--headless", "--out", out, *map(str, args))
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3]
-
-
-def mean_and_error(values: np.ndarray):
-    """Mean and standard error of the mean over the first axis (pixels)."""
-    values = values.reshape(-1, values.shape[-1])
-    return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(len(values))
+    return path_checks.path_trace("10", tmp_path, name, *args)
 
 
 # --- White furnaces -------------------------------------------------------------------
 
-@pytest.mark.parametrize("estimator", ["nee", "bsdf", "mis"])
-def test_furnace_box_returns_emission_over_one_minus_albedo(tmp_path, estimator):
+def test_furnace_box_returns_emission_over_one_minus_albedo(tmp_path):
     # Walls of albedo 0.5 glowing with 1: L = 1 + 0.5 L, so L = 2. --depth 40 truncates
-    # the series after 2 (1 - 0.5^41): 1e-12 short. Russian roulette adds noise, no bias.
+    # the series after 2 (1 - 0.5^41): 1e-12 short.
     image = path_trace(tmp_path, "furnace", "--scene", SCENES / "furnace_box.scene",
-                       "--width", 32, "--height", 32, "--spp", 32, "--depth", 40,
-                       "--estimator", estimator)
+                       "--width", 32, "--height", 32, "--spp", 32, "--depth", 40)
     mean, error = mean_and_error(image)
     assert np.all(np.abs(mean - 2.0) < SIGMAS * error + 1e-4), (mean, error)
-    # Everywhere, not just on average: each 8 x 8 block of pixels too. (Single pixels
-    # are no test at 32 spp: Russian roulette makes the distribution heavy-tailed.)
+    # Everywhere, not just on average: each 8 x 8 block of pixels too.
     for block in image.reshape(4, 8, 4, 8, 3).swapaxes(1, 2).reshape(16, 64, 3):
         block_mean, block_error = mean_and_error(block)
         assert np.all(np.abs(block_mean - 2.0) < SIGMAS * block_error + 1e-4), block_mean
@@ -79,51 +62,16 @@ def test_white_sphere_vanishes_in_the_furnace(tmp_path):
 
 # --- Direct light with a closed form --------------------------------------------------
 
-def rectangle_form_factor(a: float, b: float, h: float) -> float:
-    """Form factor from a small patch to a parallel a x b rectangle h above it, one
-    corner straight above the patch (the standard closed form)."""
-    x, y = a / h, b / h
-    return (x / math.sqrt(1 + x * x) * math.atan(y / math.sqrt(1 + x * x))
-            + y / math.sqrt(1 + y * y) * math.atan(x / math.sqrt(1 + y * y))) / (2 * math.pi)
-
-
-@pytest.mark.parametrize("estimator", ["nee", "bsdf", "mis"])
-def test_floor_under_a_square_light_matches_the_form_factor(tmp_path, estimator):
-    # The point under the centre of a 0.5 m square 1 m up: four 0.25 m squares, each
-    # with a corner above it. Radiance = albedo / pi * irradiance = albedo * L_e * F.
-    form_factor = 4 * rectangle_form_factor(0.25, 0.25, 1.0)
-    expected = 0.5 * 10.0 * form_factor
+def test_floor_under_a_square_light_matches_the_form_factor(tmp_path):
+    expected = square_light_expected()
     image = path_trace(tmp_path, "square", "--scene", SCENES / "square_light.scene",
-                       "--width", 32, "--height", 32, "--spp", 64 if estimator != "bsdf"
-                       else 512, "--direct", "--estimator", estimator)
+                       "--width", 32, "--height", 32, "--spp", 512, "--direct")
     # The central 8 x 8 pixels see 4 mm around the point; the irradiance there is
     # within 0.01% of the centre's (it is flat at its maximum).
     centre = image[12:20, 12:20]
     mean, error = mean_and_error(centre)
     assert np.all(np.abs(mean - expected) < SIGMAS * error + 2e-4 * expected), \
         (mean, error, expected)
-
-
-# --- Estimators agree -----------------------------------------------------------------
-
-@pytest.fixture(scope="module")
-def estimator_images(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("estimators")
-    images = {}
-    for seed, estimator in enumerate(["nee", "bsdf", "mis"], start=1):
-        images[estimator] = path_trace(folder, estimator, "--width", 48, "--height", 48,
-                                       "--spp", 128, "--depth", 3, "--seed", seed,
-                                       "--estimator", estimator)
-    return images
-
-
-@pytest.mark.parametrize("pair", [("nee", "mis"), ("bsdf", "mis"), ("nee", "bsdf")])
-def test_estimators_converge_to_the_same_image(estimator_images, pair):
-    a, b = (estimator_images[name] for name in pair)
-    # The light has too few pixels wholly inside it at 48 x 48 to be compared.
-    compared = regions_agreeing(a, b, ROOT / "assets" / "scenes" / "cornell_spheres.scene",
-                                SIGMAS)
-    assert compared >= 7  # five walls, two spheres
 
 
 # --- Convergence ----------------------------------------------------------------------
@@ -178,11 +126,10 @@ def test_splitting_the_samples_across_dispatches_changes_nothing(tmp_path):
 
 def test_json_counts_rays(tmp_path):
     result = run_chapter("10", "--headless", "--out", tmp_path / "x.pfm", "--width", 16,
-                         "--height", 16, "--spp", 4, "--direct", "--estimator", "bsdf",
-                         "--json")
+                         "--height", 16, "--spp", 4, "--direct", "--json")
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
-    # BSDF sampling, direct light only: a camera ray and at most one bounce ray each.
+    # Direct light only: a camera ray and at most one bounce ray each.
     samples = 16 * 16 * 4
     assert stats["samples_per_pixel"] == 4
     assert samples <= stats["rays"] <= 2 * samples
@@ -193,28 +140,10 @@ def test_json_counts_rays(tmp_path):
 
 def test_cornell_spheres_agrees_with_mitsuba(tmp_path):
     # The statistical check of the test suite: every region within 4.5 standard errors
-    # of Mitsuba 3's at 48 x 48 (ours 256 spp, Mitsuba 512). The 1% check at 256 x 256
+    # of Mitsuba 3's at 48 x 48 (ours 1024 spp, Mitsuba 512). The 1% check at 256 x 256
     # and many more samples is ./course bench (book/docs/benchmarks.md).
-    pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
-    scene_path = ROOT / "assets" / "scenes" / "cornell_spheres.scene"
-    scene = scene_io.load_scene(str(scene_path))
-    ours = path_trace(tmp_path, "ours", "--width", 48, "--height", 48, "--spp", 256,
-                      "--depth", 6)
-    theirs, _ = mitsuba_reference.render_mitsuba(scene, 48, 48, 512, 6, seed=0,
-                                                 variant="scalar_rgb")
-    masks = mitsuba_reference.region_masks(scene, 48, 48)
-    ours_means = mitsuba_reference.region_means(ours, masks)
-    their_means = mitsuba_reference.region_means(np.asarray(theirs)[..., :3], masks)
-    errors = mitsuba_reference.region_standard_errors(ours, np.asarray(theirs)[..., :3],
-                                                      masks)
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        difference = np.abs(ours_means[region] - their_means[region])
-        assert np.all(difference < SIGMAS * errors[region] + 1e-6), \
-            (region, ours_means[region], their_means[region], errors[region])
+    assert_agrees_with_mitsuba(path_trace(tmp_path, "ours", "--width", 48, "--height", 48,
+                                          "--spp", 1024, "--depth", 6))
 
 
 # --- Scenes by name, gems, bad scene files --------------------------------------------

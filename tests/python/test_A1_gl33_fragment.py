@@ -1,8 +1,8 @@
-"""Appendix A1: chapter 10's path tracer as an OpenGL 3.3 fragment shader.
+"""Appendix A1: chapter 11's path tracer as an OpenGL 3.3 fragment shader.
 
 It runs on contexts that really are 3.3 (Mesa with its version forced down, on EGL and
 on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
-chapter 10's: on llvmpipe the same seed gives the same bits (the random streams, the
+chapter 11's: on llvmpipe the same seed gives the same bits (the random streams, the
 arithmetic and the order of the samples are the same), and with another seed the
 regions of the Cornell box agree within their statistical error
 (book/docs/maintainers.md)."""
@@ -23,7 +23,7 @@ from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shader
                       xvfb_available)
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
-SIGMAS = 4.5  # as chapter 10's checks: a correct renderer fails 1 in ~150,000
+SIGMAS = 4.5  # as chapter 11's checks: a correct renderer fails 1 in ~150,000
 SIZE = ("--width", "48", "--height", "48")
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
@@ -37,16 +37,16 @@ def render(tmp_path, prefix: str, name: str, *args, env=None) -> tuple[np.ndarra
     return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
 
 
-# --- The same pictures as chapter 10 --------------------------------------------------
+# --- The same pictures as chapter 11 --------------------------------------------------
 
 @pytest.fixture(scope="module")
 def pictures(tmp_path_factory):
-    """Chapter 10 (GL 4.5) and the appendix on forced 3.3 contexts, global and direct."""
+    """Chapter 11 (GL 4.5) and the appendix on forced 3.3 contexts, global and direct."""
     folder = tmp_path_factory.mktemp("pictures")
     runs = {}
     for light in ("global", "direct"):
         options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
-        runs["10", light, 1] = render(folder, "10", f"c10_{light}", *options, "--seed", 1)
+        runs["11", light, 1] = render(folder, "11", f"c11_{light}", *options, "--seed", 1)
         runs["egl", light, 1] = render(folder, "A1", f"egl_{light}", *options, "--seed", 1,
                                        "--backend", "egl", env=GL33)
         runs["egl", light, 2] = render(folder, "A1", f"egl_{light}_2", *options, "--seed", 2,
@@ -61,20 +61,20 @@ def test_runs_on_gl33_contexts_egl_and_osmesa(pictures):
         _, stats = pictures[backend, "global", 1]
         assert stats["gl_version"].startswith("3.3 (Core Profile)"), stats
         assert stats["backend"].startswith(backend), stats
-    _, stats = pictures["10", "global", 1]
-    assert not stats["gl_version"].startswith("3.3")  # chapter 10 needs 4.3
+    _, stats = pictures["11", "global", 1]
+    assert not stats["gl_version"].startswith("3.3")  # chapter 11 needs 4.3
     a, b = pictures["egl", "global", 1][0], pictures["osmesa", "global", 1][0]
     assert np.array_equal(a, b)  # the same Mesa behind both
 
 
 @pytest.mark.parametrize("light", ["global", "direct"])
 def test_same_seed_same_samples_as_chapter_10(pictures, light):
-    # The same random streams, rays and arithmetic, one sample per pass as chapter 10 has
+    # The same random streams, rays and arithmetic, one sample per pass as chapter 11 has
     # one per dispatch: on llvmpipe (one compiler for compute and fragment shaders) the
     # images are the same bits, and every pixel traced the same number of rays. Another
     # GL may compile the two shaders differently; then only the statistics below hold.
     ours, our_stats = pictures["egl", light, 1]
-    theirs, their_stats = pictures["10", light, 1]
+    theirs, their_stats = pictures["11", light, 1]
     assert our_stats["rays"] == their_stats["rays"]
     if "llvmpipe" in our_stats["renderer"]:
         assert np.array_equal(ours, theirs)
@@ -84,9 +84,9 @@ def test_same_seed_same_samples_as_chapter_10(pictures, light):
 
 @pytest.mark.parametrize("light", ["global", "direct"])
 def test_regions_agree_with_chapter_10_statistically(pictures, light):
-    # Independent streams (seed 2 against chapter 10's seed 1): each wall and sphere's
+    # Independent streams (seed 2 against chapter 11's seed 1): each wall and sphere's
     # mean within 4.5 standard errors of the difference.
-    ours, theirs = pictures["egl", light, 2][0], pictures["10", light, 1][0]
+    ours, theirs = pictures["egl", light, 2][0], pictures["11", light, 1][0]
     assert not np.array_equal(ours, theirs)
     # The light has too few pixels wholly inside it at 48 x 48 to be compared.
     compared = regions_agreeing(ours, theirs,
@@ -97,7 +97,7 @@ def test_regions_agree_with_chapter_10_statistically(pictures, light):
 def test_random_numbers_are_chapter_10s_file(tmp_path):
     # Bit for bit the same generator: the very same GLSL (it needs nothing above 3.30).
     ours = (ROOT / "shaders" / "A1_gl33_fragment" / "random.glsl").read_bytes()
-    assert ours == (ROOT / "shaders" / "10_path_tracing" / "random.glsl").read_bytes()
+    assert ours == (ROOT / "shaders" / "11_light_sampling" / "random.glsl").read_bytes()
 
 
 def test_splitting_the_passes_changes_nothing(tmp_path):

@@ -31,7 +31,7 @@ def mesh_folder(tmp_path_factory):
 def test_shipped_scenes_load(mesh_folder):
     names = sorted(path.stem for path in SCENES.glob("*.scene"))
     assert {"cornell_spheres", "cornell_gems", "cornell_box"} <= set(names)
-    # The teapots (chapter 11's scenes) come from the build (cmake/Assets.cmake).
+    # The teapots (chapter 12's scenes) come from the build (cmake/Assets.cmake).
     built = ROOT / "build" / "assets"
     for name in names:
         scene = scene_io.load_scene(SCENES / f"{name}.scene", [mesh_folder, built])

@@ -1,5 +1,5 @@
 #version 430 core
-// Chapter 11: chapter 10's path tracer, its rays finding triangles through a bounding
+// Chapter 12: chapter 11's path tracer, its rays finding triangles through a bounding
 // volume hierarchy (scene.glsl, bvh_traversal.glsl). Each dispatch adds one sample to
 // every pixel; the image holds the running mean. Besides the radiance, --view shows
 // what the camera rays hit, how hard the tree worked for them, or random bounce rays.

@@ -1,7 +1,6 @@
 // The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list. A ray tests every sphere and quad (a scene
-// has a few dozen), and finds its triangles (a mesh may have millions) through the
-// bounding volume hierarchy: bvh_traversal.glsl.
+// if it glows, its place in the emitter list. Every ray tests every shape (chapter 12's
+// BVH does better); the Cornell scenes have a few dozen shapes, the gems ~150.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
@@ -73,19 +72,6 @@ bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t
     return t > tMin && t < tMax;
 }
 
-// --8<-- [start:bvh_interface]
-// What bvh_traversal.glsl asks for: triangle `index` of the buffer, which the host
-// filled in the tree's leaf order. (The barycentric uv is not needed here.)
-bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out vec2 uv) {
-    uv = vec2(0.0);
-    return hitTriangle(ray, triangles[index], tMin, tMax, t);
-}
-#include "bvh_traversal.glsl"
-
-// --brute-force (bruteForce in the PathParameters block, shared.h): test every
-// triangle, as chapter 10 does.
-// --8<-- [end:bvh_interface]
-
 // Fills in a hit from the shape's front normal, material and emitter.
 Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
@@ -106,21 +92,10 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         if (hitQuad(ray, quads[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
-    // The triangles: the tree finds the nearest one nearer than tMax (the nearest
-    // sphere or quad so far), or brute force tries them all.
-    if (bruteForce != 0u) {
-        for (int i = 0; i < triangles.length(); ++i)
-            if (hitTriangle(ray, triangles[i], tMin, tMax, t)) {
-                tMax = t; kind = SHAPE_TRIANGLE; index = i;
-            }
-        bvhLoopIterations += uint(triangles.length());  // for --view cost
-    } else {
-        uint triangle;
-        vec2 uv;
-        if (bvhNearestHit(ray, tMin, tMax, triangle, t, uv)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle);
+    for (int i = 0; i < triangles.length(); ++i)
+        if (hitTriangle(ray, triangles[i], tMin, tMax, t)) {
+            tMax = t; kind = SHAPE_TRIANGLE; index = i;
         }
-    }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = spheres[index];
@@ -145,7 +120,6 @@ bool anyHit(Ray ray, float tMin, float tMax) {
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
-    if (bruteForce == 0u) return bvhAnyHit(ray, tMin, tMax);
     for (int i = 0; i < triangles.length(); ++i)
         if (hitTriangle(ray, triangles[i], tMin, tMax, t)) return true;
     return false;

@@ -1,7 +1,7 @@
-// Chapter 11: a bounding volume hierarchy. Testing every triangle for every ray costs
+// Chapter 12: a bounding volume hierarchy. Testing every triangle for every ray costs
 // time in proportion to the mesh; a tree of boxes, built once on the CPU, lets a ray
 // skip every triangle in a box it misses, and a million triangles render like a few
-// thousand. Chapter 10's path tracer, its triangles found through the tree.
+// thousand. Chapter 11's path tracer, its triangles found through the tree.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -29,7 +29,7 @@ std::string scenePath(course::Session& session, const std::string& scene) {
 }
 
 int main(int argc, char** argv) {
-    course::CommandLine cli("Chapter 11: path tracing through a bounding volume hierarchy");
+    course::CommandLine cli("Chapter 12: path tracing through a bounding volume hierarchy");
     cli.acceptScene();  // --scene NAME|FILE, default cornell_teapot
     cli.acceptObj();    // --obj FILE: that mesh, standing in the scene (cornell_room)
     int depth = 6, batches = 1;
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
                "the GPU between them (the same image)", &batches, 1, 1 << 20);
     bool bruteForce = false;
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
-             "(chapter 10's way: for comparisons)", &bruteForce);
+             "(chapter 11's way: for comparisons)", &bruteForce);
     std::string view = "radiance";
     cli.choice("--view", "what the image shows: the path traced light, what the camera "
                "rays hit (normals, distance in metres), the traversal's work per pixel "

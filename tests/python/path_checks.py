@@ -1,0 +1,75 @@
+"""What the path tracers' checks (chapters 10 and 11) share: rendering to linear PFM,
+the standard error of a mean over pixels, a closed-form form factor, and the region by
+region comparison with Mitsuba 3.
+
+Every expected value is compared with the statistical error of the estimate: the
+standard error of a mean of N independent pixels is the spread of the pixels over
+sqrt(N). Limits of 4.5 standard errors fail a correct renderer about once in 150,000
+comparisons; the seeds are fixed, so the results do not change from run to run."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, read_pfm, run_chapter
+
+SCENES = ROOT / "tests" / "data" / "scenes"
+SIGMAS = 4.5
+
+
+def path_trace(chapter: str, tmp_path, name: str, *args) -> np.ndarray:
+    """Renders with the chapter to a PFM (linear) and returns it (height, width, 3)."""
+    out = tmp_path / f"{name}.pfm"
+    result = run_chapter(chapter, "--headless", "--out", out, *map(str, args))
+    assert result.returncode == 0, result.stderr
+    return read_pfm(out)[..., :3]
+
+
+def mean_and_error(values: np.ndarray):
+    """Mean and standard error of the mean over the first axis (pixels)."""
+    values = values.reshape(-1, values.shape[-1])
+    return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(len(values))
+
+
+def rectangle_form_factor(a: float, b: float, h: float) -> float:
+    """Form factor from a small patch to a parallel a x b rectangle h above it, one
+    corner straight above the patch (the standard closed form)."""
+    x, y = a / h, b / h
+    return (x / math.sqrt(1 + x * x) * math.atan(y / math.sqrt(1 + x * x))
+            + y / math.sqrt(1 + y * y) * math.atan(x / math.sqrt(1 + y * y))) / (2 * math.pi)
+
+
+def square_light_expected() -> float:
+    """tests/data/scenes/square_light.scene: the floor (albedo 0.5) under the centre of a
+    0.5 m square light (radiance 10) 1 m up, made of four 0.25 m squares each with a
+    corner above the point. Radiance = albedo / pi * irradiance = albedo * L_e * F."""
+    return 0.5 * 10.0 * 4 * rectangle_form_factor(0.25, 0.25, 1.0)
+
+
+def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512):
+    """Every region of cornell_spheres (the pixels that see one wall, sphere or the
+    light, at least 20) within 4.5 standard errors of Mitsuba 3's render at `spp`."""
+    pytest.importorskip("mitsuba")
+    import mitsuba_reference
+    import scene_io
+    scene = scene_io.load_scene(str(ROOT / "assets" / "scenes" / "cornell_spheres.scene"))
+    height, width = ours.shape[:2]
+    theirs, _ = mitsuba_reference.render_mitsuba(scene, width, height, spp, 6, seed=0,
+                                                 variant="scalar_rgb")
+    theirs = np.asarray(theirs)[..., :3]
+    masks = mitsuba_reference.region_masks(scene, width, height)
+    ours_means = mitsuba_reference.region_means(ours, masks)
+    their_means = mitsuba_reference.region_means(theirs, masks)
+    errors = mitsuba_reference.region_standard_errors(ours, theirs, masks)
+    compared = 0
+    for region, mask in masks.items():
+        if mask.sum() < 20:
+            continue
+        difference = np.abs(ours_means[region] - their_means[region])
+        assert np.all(difference < SIGMAS * errors[region] + 1e-6), \
+            (region, ours_means[region], their_means[region], errors[region])
+        compared += 1
+    assert compared >= 7  # five walls, two spheres
