@@ -1,5 +1,6 @@
-// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
-// triangles (meshes included, placed in the world) and materials.
+// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres,
+// quads, materials, and the triangles as chapter 09 kept its mesh, corner indices into
+// positions and normals (meshes placed in the world, each a triangle of the file's own).
 #pragma once
 #include <cstddef>
 #include <string>
@@ -12,6 +13,8 @@ struct GpuScene {
     std::vector<gpu::Sphere> spheres;
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;
+    std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
+    std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
     std::vector<gpu::Material> materials;
     float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
 

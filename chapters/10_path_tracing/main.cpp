@@ -59,11 +59,14 @@ int main(int argc, char** argv) {
         session.stats().set("shapes", double(scene.shapeCount()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene, the image (the running mean), each pixel's
-        //    random number state and ray count.
+        // 2. Storage buffers: the scene (the triangles' corners and normals as in
+        //    chapter 09), the image (the running mean), each pixel's random number
+        //    state and ray count.
         auto spheres = course::GpuBuffer::fromVector(scene.spheres);
         auto quads = course::GpuBuffer::fromVector(scene.quads);
         auto triangles = course::GpuBuffer::fromVector(scene.triangles);
+        auto positions = course::GpuBuffer::fromVector(scene.positions);
+        auto normals = course::GpuBuffer::fromVector(scene.normals);
         auto materials = course::GpuBuffer::fromVector(scene.materials);
         course::ImageBuffer image(width, height);
         course::GpuBuffer randomStates(size_t(width) * height * sizeof(glm::uvec4));
@@ -71,6 +74,8 @@ int main(int argc, char** argv) {
         spheres.bindStorage(SPHERES_BINDING);
         quads.bindStorage(QUADS_BINDING);
         triangles.bindStorage(TRIANGLES_BINDING);
+        positions.bindStorage(POSITIONS_BINDING);
+        normals.bindStorage(NORMALS_BINDING);
         materials.bindStorage(MATERIALS_BINDING);
         image.pixels.bindStorage(PIXELS_BINDING);
         randomStates.bindStorage(RANDOM_BINDING);

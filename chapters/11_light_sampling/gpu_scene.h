@@ -1,6 +1,7 @@
-// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
-// triangles (meshes included, placed in the world), materials, and the list of
-// emitters that next-event estimation samples.
+// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres,
+// quads, materials, the triangles as chapter 09 kept its mesh, corner indices into
+// positions and normals (meshes placed in the world), and the list of emitters that
+// next-event estimation samples.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -13,6 +14,8 @@ struct GpuScene {
     std::vector<gpu::Sphere> spheres;
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;
+    std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
+    std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
     std::vector<gpu::Material> materials;
     std::vector<gpu::Emitter> emitters;
     float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly

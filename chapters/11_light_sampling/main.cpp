@@ -63,11 +63,14 @@ int main(int argc, char** argv) {
         session.stats().set("emitters", double(scene.emitters.size()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene, the image (the running mean), each pixel's
-        //    random number state and ray count.
+        // 2. Storage buffers: the scene (the triangles' corners and normals as in
+        //    chapter 09), the image (the running mean), each pixel's random number
+        //    state and ray count.
         auto spheres = course::GpuBuffer::fromVector(scene.spheres);
         auto quads = course::GpuBuffer::fromVector(scene.quads);
         auto triangles = course::GpuBuffer::fromVector(scene.triangles);
+        auto positions = course::GpuBuffer::fromVector(scene.positions);
+        auto normals = course::GpuBuffer::fromVector(scene.normals);
         auto materials = course::GpuBuffer::fromVector(scene.materials);
         auto emitters = course::GpuBuffer::fromVector(scene.emitters);
         course::ImageBuffer image(width, height);
@@ -76,6 +79,8 @@ int main(int argc, char** argv) {
         spheres.bindStorage(SPHERES_BINDING);
         quads.bindStorage(QUADS_BINDING);
         triangles.bindStorage(TRIANGLES_BINDING);
+        positions.bindStorage(POSITIONS_BINDING);
+        normals.bindStorage(NORMALS_BINDING);
         materials.bindStorage(MATERIALS_BINDING);
         emitters.bindStorage(EMITTERS_BINDING);
         image.pixels.bindStorage(PIXELS_BINDING);

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "course/error.h"
+#include "normals.h"
 
 namespace {
 
@@ -19,25 +20,53 @@ uint32_t addEmitter(GpuScene& gpu, const course::SceneFile& scene, uint32_t mate
     return static_cast<uint32_t>(gpu.emitters.size() - 1);
 }
 
-void addTriangle(GpuScene& gpu, const course::SceneFile& scene, glm::vec3 a, glm::vec3 b,
-                 glm::vec3 c, uint32_t material) {
-    float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-    uint32_t emitter =
-        addEmitter(gpu, scene, material, SHAPE_TRIANGLE, gpu.triangles.size(), area);
-    gpu.triangles.push_back({a, material, b, emitter, c, 0u});
+// A mesh joins the scene as chapter 09 drew it: its positions and normals appended to
+// the scene's, its triangles' indices shifted past what was there before. A file
+// without normals gets chapter 08's computed ones.
+void addMesh(GpuScene& gpu, const course::SceneFile& scene, const Mesh& mesh,
+             const glm::mat4& worldFromMesh, uint32_t material) {
+    const uint32_t firstPosition = uint32_t(gpu.positions.size());
+    const uint32_t firstNormal = uint32_t(gpu.normals.size());
+    for (const glm::vec3& p : mesh.positions)
+        gpu.positions.push_back(worldFromMesh * glm::vec4(p, 1.0f));
+    // The scene file scales uniformly and turns about y: directions turn with the
+    // matrix (a non-uniform scale would need its inverse transpose).
+    bool computed = mesh.normalIndices.empty();
+    const std::vector<glm::vec3> normals =
+        computed ? areaWeightedNormals(mesh.positions, mesh.positionIndices) : mesh.normals;
+    for (const glm::vec3& n : normals) {
+        glm::vec3 turned = glm::mat3(worldFromMesh) * n;
+        float length = glm::length(turned);
+        gpu.normals.push_back(glm::vec4(length > 0.0f ? turned / length : turned, 0.0f));
+    }
+    const std::vector<uint32_t>& corners = mesh.positionIndices;
+    const std::vector<uint32_t>& cornerNormals = computed ? corners : mesh.normalIndices;
+    for (size_t i = 0; i < corners.size(); i += 3) {
+        glm::uvec3 corner = firstPosition + glm::uvec3(corners[i], corners[i + 1],
+                                                       corners[i + 2]);
+        glm::vec3 p0(gpu.positions[corner.x]), p1(gpu.positions[corner.y]);
+        glm::vec3 p2(gpu.positions[corner.z]);
+        float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+        uint32_t emitter =
+            addEmitter(gpu, scene, material, SHAPE_TRIANGLE, gpu.triangles.size(), area);
+        gpu.triangles.push_back(
+            {corner, material,
+             firstNormal + glm::uvec3(cornerNormals[i], cornerNormals[i + 1],
+                                      cornerNormals[i + 2]),
+             emitter});
+    }
 }
 
 // --8<-- [start:leaf_order]
 // Builds the tree over the triangles and stores them in its leaf order, so that each
 // leaf is one run of the buffer. Emitters that are triangles follow theirs.
 void buildTree(GpuScene& gpu, const BvhOptions& options) {
-    std::vector<glm::vec3> corners;
+    std::vector<glm::vec3> positions(gpu.positions.begin(), gpu.positions.end());
+    std::vector<uint32_t> corners;
     corners.reserve(3 * gpu.triangles.size());
     for (const gpu::Triangle& t : gpu.triangles)
-        corners.insert(corners.end(), {t.p0, t.p1, t.p2});
-    std::vector<uint32_t> cornerIndices(corners.size());
-    for (size_t i = 0; i < cornerIndices.size(); ++i) cornerIndices[i] = uint32_t(i);
-    gpu.bvh = buildBvh(corners, cornerIndices, options);
+        corners.insert(corners.end(), {t.corners.x, t.corners.y, t.corners.z});
+    gpu.bvh = buildBvh(positions, corners, options);
 
     gpu.triangles = inLeafOrder(gpu.bvh, gpu.triangles);
     std::vector<uint32_t> leafPosition(gpu.triangles.size());
@@ -114,26 +143,18 @@ GpuScene packScene(const course::SceneFile& scene, const std::vector<Mesh>& mesh
         grow(q.origin + q.edge1);
         grow(q.origin + q.edge2);
     }
+    // A lone triangle is a mesh of one, flat: its three corners share its own normal.
     for (const course::SceneTriangle& t : scene.triangles) {
-        addTriangle(gpu, scene, t.p0, t.p1, t.p2, t.material);
-        grow(t.p0), grow(t.p1), grow(t.p2);
+        glm::vec3 normal = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+        if (glm::length(normal) > 0.0f) normal = glm::normalize(normal);
+        Mesh one{{t.p0, t.p1, t.p2}, {normal}, {0, 1, 2}, {0, 0, 0}};
+        addMesh(gpu, scene, one, glm::mat4(1.0f), t.material);
     }
-    // Meshes become plain triangles in world space: flat facets, no corner normals.
     for (size_t m = 0; m < meshes.size(); ++m) {
-        const Mesh& mesh = meshes[m];
         const course::SceneMesh& sceneMesh = scene.meshes.at(m);
-        glm::mat4 worldFromMesh = sceneMesh.worldFromMesh();
-        gpu.triangles.reserve(gpu.triangles.size() + mesh.triangleCount());
-        glm::vec3 corners[3];
-        for (size_t i = 0; i < mesh.positionIndices.size(); ++i) {
-            glm::vec3 p = mesh.positions[mesh.positionIndices[i]];
-            corners[i % 3] = glm::vec3(worldFromMesh * glm::vec4(p, 1.0f));
-            grow(corners[i % 3]);
-            if (i % 3 == 2)
-                addTriangle(gpu, scene, corners[0], corners[1], corners[2],
-                            sceneMesh.material);
-        }
+        addMesh(gpu, scene, meshes[m], sceneMesh.worldFromMesh(), sceneMesh.material);
     }
+    for (const glm::vec4& p : gpu.positions) grow(glm::vec3(p));
     gpu.size = glm::length(high - low);
     buildTree(gpu, bvhOptions);
     return gpu;

@@ -1,6 +1,7 @@
-// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres, quads,
-// triangles (meshes included, placed in the world), materials, the emitters that
-// next-event estimation samples, and the bounding volume hierarchy over the triangles.
+// A scene file (course/scene_file.h) turned into the arrays the shaders read: spheres,
+// quads, the triangles as chapter 09 kept its mesh (corner indices into positions and
+// normals, meshes placed in the world), materials, the emitters that next-event
+// estimation samples, and the bounding volume hierarchy over the triangles.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -15,6 +16,8 @@ struct GpuScene {
     std::vector<gpu::Sphere> spheres;
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;  // in the tree's leaf order
+    std::vector<glm::vec4> positions;      // the triangles' corners, in the world; w unused
+    std::vector<glm::vec4> normals;        // the normals at the corners, unit; w unused
     std::vector<gpu::Material> materials;
     std::vector<gpu::Emitter> emitters;
     Bvh bvh;            // over `triangles`: its nodes go to BVH_NODES_BINDING

@@ -91,6 +91,8 @@ int main(int argc, char** argv) {
         auto spheres = course::GpuBuffer::fromVector(scene.spheres);
         auto quads = course::GpuBuffer::fromVector(scene.quads);
         auto triangles = course::GpuBuffer::fromVector(scene.triangles);
+        auto positions = course::GpuBuffer::fromVector(scene.positions);
+        auto normals = course::GpuBuffer::fromVector(scene.normals);
         auto materials = course::GpuBuffer::fromVector(scene.materials);
         auto emitters = course::GpuBuffer::fromVector(scene.emitters);
         auto bvhNodes = course::GpuBuffer::fromVector(scene.bvh.nodes);
@@ -101,6 +103,8 @@ int main(int argc, char** argv) {
         spheres.bindStorage(SPHERES_BINDING);
         quads.bindStorage(QUADS_BINDING);
         triangles.bindStorage(TRIANGLES_BINDING);
+        positions.bindStorage(POSITIONS_BINDING);
+        normals.bindStorage(NORMALS_BINDING);
         materials.bindStorage(MATERIALS_BINDING);
         emitters.bindStorage(EMITTERS_BINDING);
         bvhNodes.bindStorage(BVH_NODES_BINDING);

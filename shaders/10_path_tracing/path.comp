@@ -44,12 +44,21 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         if (hit.front) radiance += throughput * material.emission.rgb;
         // A surface's back is black (as Mitsuba's diffuse); --depth ends the path.
         if (!hit.front || bounce == maxBounces) break;
+        // --8<-- [start:shading_normal]
+        // So is a front whose smooth normal faces away from the ray: near a mesh's
+        // outline the blended normal can lean past the flat one (Mitsuba agrees).
+        if (dot(hit.normal, ray.direction) >= 0.0) break;
 
-        // 2. The next direction, by cosine sampling: (albedo / pi) cos / (cos / pi) is
-        //    the albedo, so the throughput only picks up the surface's colour.
+        // 2. The next direction, by cosine sampling about the smooth normal:
+        //    (albedo / pi) cos / (cos / pi) is the albedo, so the throughput only picks
+        //    up the surface's colour.
         vec3 direction = cosineSampleHemisphere(hit.normal, random2(random));
+        // A direction under the surface itself would leave through the mesh's inside
+        // (where a closed mesh is black) or leak light through an open one: it ends.
+        if (dot(direction, hit.geometricNormal) <= 0.0) break;
+        // --8<-- [end:shading_normal]
         throughput *= material.albedo.rgb;
-        ray = Ray(offsetFromSurface(hit.position, hit.normal), direction);
+        ray = Ray(offsetFromSurface(hit.position, hit.geometricNormal), direction);
     }
     return radiance;
 }

@@ -7,11 +7,13 @@
 
 #define PIXELS_BINDING 0     // the image: the running mean of the samples, linear RGB
 #define SPHERES_BINDING 1    // the scene's spheres
-#define TRIANGLES_BINDING 2  // its triangles, meshes included, corners stored in place
+#define TRIANGLES_BINDING 2  // its triangles, meshes included: indices of their corners
 #define QUADS_BINDING 3      // its parallelograms (walls, lights)
 #define RANDOM_BINDING 4     // each pixel's generator state: one uvec4, kept all along
 #define MATERIALS_BINDING 5  // albedo and emission, picked by each shape's `material`
 #define RAY_COUNT_BINDING 6  // rays traced by each pixel so far, for the --json stats
+#define POSITIONS_BINDING 7  // the triangles' corners, in the world: one vec4 each
+#define NORMALS_BINDING 8    // the normals at those corners, unit: one vec4 each
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
@@ -35,6 +37,7 @@
 namespace gpu {
 using uint = glm::uint;
 using uvec2 = glm::uvec2;
+using uvec3 = glm::uvec3;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 #endif
@@ -59,13 +62,11 @@ struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin
     vec3 edge2;  // the front is the side cross(edge1, edge2) points to
     uint unused1;
 };
-struct Triangle {  // the front is where the corners run counter-clockwise
-    vec3 p0;
+struct Triangle {  // chapter 09's: the front is where the corners run counter-clockwise
+    uvec3 corners;        // indices into the positions
     uint material;
-    vec3 p1;
-    uint unused0;
-    vec3 p2;
-    uint unused1;
+    uvec3 cornerNormals;  // indices into the normals, in the corners' order
+    uint unused;
 };
 struct Material {
     vec4 albedo;    // rgb: the reflected fraction of the light (Lambertian)
@@ -117,10 +118,9 @@ static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
                   offsetof(Quad, edge1) == 16 && offsetof(Quad, unused0) == 28 &&
                   offsetof(Quad, edge2) == 32 && offsetof(Quad, unused1) == 44,
               "std430 Quad: each uint fills the fourth slot of the vec3 before it");
-static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, material) == 12 &&
-                  offsetof(Triangle, p1) == 16 && offsetof(Triangle, unused0) == 28 &&
-                  offsetof(Triangle, p2) == 32 && offsetof(Triangle, unused1) == 44,
-              "std430 Triangle: each uint fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Triangle) == 32 && offsetof(Triangle, material) == 12 &&
+                  offsetof(Triangle, cornerNormals) == 16 && offsetof(Triangle, unused) == 28,
+              "std430 Triangle: each uint fills the fourth slot of the uvec3 before it");
 static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std430 Material");
 static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
                   offsetof(PinholeCamera, forward) == 16 &&

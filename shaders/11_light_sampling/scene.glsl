@@ -1,12 +1,16 @@
-// The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list. Every ray tests every shape (chapter 12's
-// BVH does better); the Cornell scenes have a few dozen shapes, the gems ~150.
+// The scene: spheres, quads and triangles in storage buffers, each with a material
+// and, if it glows, its place in the emitter list;
+// the triangles' corners and normals in two more, as in chapter 09. Every ray tests
+// every shape (chapter 12's BVH does better); the Cornell scenes have a few dozen
+// shapes, the gems ~200.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
 layout(std430, binding = TRIANGLES_BINDING) readonly buffer Triangles {
     Triangle triangles[];
 };
+layout(std430, binding = POSITIONS_BINDING) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = NORMALS_BINDING) readonly buffer Normals { vec4 normals[]; };
 layout(std430, binding = MATERIALS_BINDING) readonly buffer Materials {
     Material materials[];
 };
@@ -15,10 +19,11 @@ layout(std430, binding = MATERIALS_BINDING) readonly buffer Materials {
 struct Hit {
     float t;
     vec3 position;
-    vec3 normal;     // unit length, on the shape's front side (outside, for a sphere)
-    bool front;      // did the ray arrive at the front?
+    vec3 normal;           // unit, on the front side: to shade with (smooth on a mesh)
+    vec3 geometricNormal;  // unit, on the front side: the surface's own, flat
+    bool front;            // did the ray arrive at the front of the surface itself?
     uint material;
-    uint emitter;    // index into the emitter list, or NO_EMITTER
+    uint emitter;          // index into the emitter list, or NO_EMITTER
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
@@ -54,28 +59,14 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
     return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
 }
 
-// Moller-Trumbore, both sides (chapter 06).
-bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
-    vec3 edge1 = triangle.p1 - triangle.p0;
-    vec3 edge2 = triangle.p2 - triangle.p0;
-    vec3 p = cross(ray.direction, edge2);
-    float determinant = dot(edge1, p);
-    if (abs(determinant) < 1e-20) return false;
-    float inverse = 1.0 / determinant;
-    vec3 toOrigin = ray.origin - triangle.p0;
-    float u = dot(toOrigin, p) * inverse;
-    if (u < 0.0 || u > 1.0) return false;
-    vec3 q = cross(toOrigin, edge1);
-    float v = dot(ray.direction, q) * inverse;
-    if (v < 0.0 || u + v > 1.0) return false;
-    t = dot(edge2, q) * inverse;
-    return t > tMin && t < tMax;
-}
+// Chapter 09's triangles: hitTriangle, smoothNormal, triangleHit.
+#include "triangle.glsl"
 
-// Fills in a hit from the shape's front normal, material and emitter.
+// Fills in a hit on a sphere or a quad from its front normal, material and emitter:
+// the same normal to shade with and to tell the sides apart.
 Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
-    return Hit(t, ray.origin + t * ray.direction, normal,
+    return Hit(t, ray.origin + t * ray.direction, normal, normal,
                dot(normal, ray.direction) < 0.0, material, emitter);
 }
 
@@ -84,6 +75,7 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
+    vec2 barycentric, hitBarycentric;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -93,8 +85,8 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
     for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, triangles[i], tMin, tMax, t)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = i;
+        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric)) {
+            tMax = t; kind = SHAPE_TRIANGLE; index = i; hitBarycentric = barycentric;
         }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
@@ -105,9 +97,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         Quad q = quads[index];
         hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
-        Triangle tr = triangles[index];
-        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
-                      tr.emitter);
+        hit = triangleHit(ray, tMax, hitBarycentric, triangles[index]);
     }
     return kind >= 0;
 }
@@ -116,11 +106,12 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
+    vec2 barycentric;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
     for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, triangles[i], tMin, tMax, t)) return true;
+        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric)) return true;
     return false;
 }

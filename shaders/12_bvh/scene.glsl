@@ -1,5 +1,6 @@
 // The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list. A ray tests every sphere and quad (a scene
+// if it glows, its place in the emitter list; the triangles' corners and normals in two
+// more, as in chapter 09. A ray tests every sphere and quad (a scene
 // has a few dozen), and finds its triangles (a mesh may have millions) through the
 // bounding volume hierarchy: bvh_traversal.glsl.
 
@@ -8,6 +9,8 @@ layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
 layout(std430, binding = TRIANGLES_BINDING) readonly buffer Triangles {
     Triangle triangles[];
 };
+layout(std430, binding = POSITIONS_BINDING) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = NORMALS_BINDING) readonly buffer Normals { vec4 normals[]; };
 layout(std430, binding = MATERIALS_BINDING) readonly buffer Materials {
     Material materials[];
 };
@@ -16,10 +19,11 @@ layout(std430, binding = MATERIALS_BINDING) readonly buffer Materials {
 struct Hit {
     float t;
     vec3 position;
-    vec3 normal;     // unit length, on the shape's front side (outside, for a sphere)
-    bool front;      // did the ray arrive at the front?
+    vec3 normal;           // unit, on the front side: to shade with (smooth on a mesh)
+    vec3 geometricNormal;  // unit, on the front side: the surface's own, flat
+    bool front;            // did the ray arrive at the front of the surface itself?
     uint material;
-    uint emitter;    // index into the emitter list, or NO_EMITTER
+    uint emitter;          // index into the emitter list, or NO_EMITTER
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
@@ -55,30 +59,14 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
     return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
 }
 
-// Moller-Trumbore, both sides (chapter 06).
-bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
-    vec3 edge1 = triangle.p1 - triangle.p0;
-    vec3 edge2 = triangle.p2 - triangle.p0;
-    vec3 p = cross(ray.direction, edge2);
-    float determinant = dot(edge1, p);
-    if (abs(determinant) < 1e-20) return false;
-    float inverse = 1.0 / determinant;
-    vec3 toOrigin = ray.origin - triangle.p0;
-    float u = dot(toOrigin, p) * inverse;
-    if (u < 0.0 || u > 1.0) return false;
-    vec3 q = cross(toOrigin, edge1);
-    float v = dot(ray.direction, q) * inverse;
-    if (v < 0.0 || u + v > 1.0) return false;
-    t = dot(edge2, q) * inverse;
-    return t > tMin && t < tMax;
-}
+// Chapter 09's triangles: hitTriangle, smoothNormal, triangleHit.
+#include "triangle.glsl"
 
 // --8<-- [start:bvh_interface]
 // What bvh_traversal.glsl asks for: triangle `index` of the buffer, which the host
-// filled in the tree's leaf order. (The barycentric uv is not needed here.)
+// filled in the tree's leaf order, and where on it (uv, for the smooth normal).
 bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out vec2 uv) {
-    uv = vec2(0.0);
-    return hitTriangle(ray, triangles[index], tMin, tMax, t);
+    return hitTriangle(ray, cornersOf(triangles[index]), tMin, tMax, t, uv);
 }
 #include "bvh_traversal.glsl"
 
@@ -86,10 +74,11 @@ bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out v
 // triangle, as chapter 11 does.
 // --8<-- [end:bvh_interface]
 
-// Fills in a hit from the shape's front normal, material and emitter.
+// Fills in a hit on a sphere or a quad from its front normal, material and emitter:
+// the same normal to shade with and to tell the sides apart.
 Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
-    return Hit(t, ray.origin + t * ray.direction, normal,
+    return Hit(t, ray.origin + t * ray.direction, normal, normal,
                dot(normal, ray.direction) < 0.0, material, emitter);
 }
 
@@ -98,6 +87,7 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
+    vec2 uv, hitUv;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -110,15 +100,14 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     // sphere or quad so far), or brute force tries them all.
     if (bruteForce != 0u) {
         for (int i = 0; i < triangles.length(); ++i)
-            if (hitTriangle(ray, triangles[i], tMin, tMax, t)) {
-                tMax = t; kind = SHAPE_TRIANGLE; index = i;
+            if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) {
+                tMax = t; kind = SHAPE_TRIANGLE; index = i; hitUv = uv;
             }
         bvhLoopIterations += uint(triangles.length());  // for --view cost
     } else {
         uint triangle;
-        vec2 uv;
         if (bvhNearestHit(ray, tMin, tMax, triangle, t, uv)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle);
+            tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle); hitUv = uv;
         }
     }
     // Normals only for the one shape that was hit.
@@ -130,9 +119,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         Quad q = quads[index];
         hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
-        Triangle tr = triangles[index];
-        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
-                      tr.emitter);
+        hit = triangleHit(ray, tMax, hitUv, triangles[index]);
     }
     return kind >= 0;
 }
@@ -141,12 +128,13 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
+    vec2 uv;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
     if (bruteForce == 0u) return bvhAnyHit(ray, tMin, tMax);
     for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, triangles[i], tMin, tMax, t)) return true;
+        if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) return true;
     return false;
 }

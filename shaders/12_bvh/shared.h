@@ -10,14 +10,16 @@
 
 #define PIXELS_BINDING 0     // the image: the running mean of the samples, linear RGB
 #define SPHERES_BINDING 1    // the scene's spheres
-#define TRIANGLES_BINDING 2  // its triangles, meshes included, corners stored in place
+#define TRIANGLES_BINDING 2  // its triangles, meshes included: indices of their corners
 #define QUADS_BINDING 3      // its parallelograms (walls, lights)
 #define RANDOM_BINDING 4     // each pixel's generator state: one uvec4, kept all along
 #define MATERIALS_BINDING 5  // albedo and emission, picked by each shape's `material`
-#define EMITTERS_BINDING 6   // the shapes that emit: what next-event estimation samples
-#define RAY_COUNT_BINDING 7  // rays traced by each pixel so far, for the --json stats
-#define BVH_NODES_BINDING 8  // the bounding volume hierarchy over the triangles
-#define BOUNCE_START_BINDING 9  // --view bounce: each pixel's first hit, found once
+#define RAY_COUNT_BINDING 6  // rays traced by each pixel so far, for the --json stats
+#define POSITIONS_BINDING 7  // the triangles' corners, in the world: one vec4 each
+#define NORMALS_BINDING 8    // the normals at those corners, unit: one vec4 each
+#define EMITTERS_BINDING 9   // the shapes that emit: what next-event estimation samples
+#define BVH_NODES_BINDING 10  // the bounding volume hierarchy over the triangles
+#define BOUNCE_START_BINDING 11  // --view bounce: each pixel's first hit, found once
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
@@ -36,7 +38,7 @@
 #define ESTIMATOR_BSDF 1  // sample the BSDF only; light counts when a ray hits it
 #define ESTIMATOR_MIS 2   // both, weighted by multiple importance sampling
 
-// What kind of shape an emitter is.
+// The kinds of shape, for the nearest hit and the emitters to say which.
 #define SHAPE_SPHERE 0
 #define SHAPE_QUAD 1
 #define SHAPE_TRIANGLE 2
@@ -60,6 +62,7 @@
 namespace gpu {
 using uint = glm::uint;
 using uvec2 = glm::uvec2;
+using uvec3 = glm::uvec3;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 #endif
@@ -85,13 +88,11 @@ struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin
     vec3 edge2;  // the front is the side cross(edge1, edge2) points to
     uint unused;
 };
-struct Triangle {  // the front is where the corners run counter-clockwise
-    vec3 p0;
+struct Triangle {  // chapter 09's: the front is where the corners run counter-clockwise
+    uvec3 corners;        // indices into the positions
     uint material;
-    vec3 p1;
+    uvec3 cornerNormals;  // indices into the normals, in the corners' order
     uint emitter;
-    vec3 p2;
-    uint unused;
 };
 struct Material {
     vec4 albedo;    // rgb: the reflected fraction of the light (Lambertian)
@@ -153,10 +154,9 @@ static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
                   offsetof(Quad, edge1) == 16 && offsetof(Quad, emitter) == 28 &&
                   offsetof(Quad, edge2) == 32 && offsetof(Quad, unused) == 44,
               "std430 Quad: each uint fills the fourth slot of the vec3 before it");
-static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, material) == 12 &&
-                  offsetof(Triangle, p1) == 16 && offsetof(Triangle, emitter) == 28 &&
-                  offsetof(Triangle, p2) == 32 && offsetof(Triangle, unused) == 44,
-              "std430 Triangle: each uint fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Triangle) == 32 && offsetof(Triangle, material) == 12 &&
+                  offsetof(Triangle, cornerNormals) == 16 && offsetof(Triangle, emitter) == 28,
+              "std430 Triangle: each uint fills the fourth slot of the uvec3 before it");
 static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std430 Material");
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std430 Emitter");
 static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
