@@ -5,13 +5,14 @@
 #include <initializer_list>
 
 #include "course/error.h"
+#include "normals.h"
 #include "obj_loader.h"
 
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-// The fourth texel of every shape: its indices as float numbers (shared.h).
+// The last texel of a sphere or a quad: its indices as float numbers (shared.h).
 glm::vec4 infoTexel(uint32_t material, int64_t emitter) {
     return {float(material), float(emitter), 0.0f, 0.0f};
 }
@@ -33,6 +34,55 @@ int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const course::SceneFile&
                  "uniform block of this appendix holds at most " + std::to_string(limit) +
                  " (" + limitName + " in shaders/A1_gl33_fragment/shared.h)");
 }
+
+// Chapter 11's triangles, positions and normals, gathered mesh by mesh: they become
+// runs of texels once every mesh is in (shared.h).
+struct Meshes {
+    std::vector<glm::vec4> triangles;  // TRIANGLE_TEXELS each
+    std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
+    std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
+};
+
+// --8<-- [start:mesh]
+// A mesh joins the scene as chapter 09 drew it: its positions and normals appended to
+// the scene's, its triangles' indices shifted past what was there before. A file
+// without normals gets chapter 08's computed ones.
+void addMesh(Meshes& meshes, std::vector<gpu::Emitter>& emitters,
+             const course::SceneFile& scene, const Mesh& mesh,
+             const glm::mat4& worldFromMesh, uint32_t material) {
+    const uint32_t firstPosition = uint32_t(meshes.positions.size());
+    const uint32_t firstNormal = uint32_t(meshes.normals.size());
+    for (const glm::vec3& p : mesh.positions)
+        meshes.positions.push_back(worldFromMesh * glm::vec4(p, 1.0f));
+    // The scene file scales uniformly and turns about y: directions turn with the
+    // matrix (a non-uniform scale would need its inverse transpose).
+    bool computed = mesh.normalIndices.empty();
+    const std::vector<glm::vec3> normals =
+        computed ? areaWeightedNormals(mesh.positions, mesh.positionIndices) : mesh.normals;
+    for (const glm::vec3& n : normals) {
+        glm::vec3 turned = glm::mat3(worldFromMesh) * n;
+        float length = glm::length(turned);
+        meshes.normals.push_back(glm::vec4(length > 0.0f ? turned / length : turned, 0.0f));
+    }
+    const std::vector<uint32_t>& corners = mesh.positionIndices;
+    const std::vector<uint32_t>& cornerNormals = computed ? corners : mesh.normalIndices;
+    for (size_t i = 0; i < corners.size(); i += 3) {
+        glm::uvec3 corner = firstPosition + glm::uvec3(corners[i], corners[i + 1],
+                                                       corners[i + 2]);
+        glm::vec3 p0(meshes.positions[corner.x]), p1(meshes.positions[corner.y]);
+        glm::vec3 p2(meshes.positions[corner.z]);
+        float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+        size_t index = meshes.triangles.size() / TRIANGLE_TEXELS;
+        int64_t emitter = addEmitter(emitters, scene, material, SHAPE_TRIANGLE, index, area);
+        // Chapter 11's Triangle as two texels, its indices as float numbers.
+        glm::uvec3 cornerNormal = firstNormal + glm::uvec3(cornerNormals[i],
+                                                           cornerNormals[i + 1],
+                                                           cornerNormals[i + 2]);
+        meshes.triangles.push_back(glm::vec4(glm::vec3(corner), float(material)));
+        meshes.triangles.push_back(glm::vec4(glm::vec3(cornerNormal), float(emitter)));
+    }
+}
+// --8<-- [end:mesh]
 
 }  // namespace
 
@@ -74,33 +124,37 @@ GpuScene packScene(const course::SceneFile& scene) {
         grow(q.origin + q.edge1);
         grow(q.origin + q.edge2);
     }
-    block.firstTriangleTexel = uint32_t(gpu.texels.size());
-    size_t triangles = 0;
-    auto addTriangle = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
-        int64_t emitter = addEmitter(emitters, scene, material, SHAPE_TRIANGLE, triangles++,
-                                     0.5f * glm::length(glm::cross(b - a, c - a)));
-        add({glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0), infoTexel(material, emitter)});
-        grow(a), grow(b), grow(c);
-    };
-    for (const course::SceneTriangle& t : scene.triangles)
-        addTriangle(t.p0, t.p1, t.p2, t.material);
-    // Meshes become plain triangles in world space: flat facets, no corner normals.
-    for (const course::SceneMesh& sceneMesh : scene.meshes) {
-        Mesh mesh = loadObj(sceneMesh.path);
-        glm::mat4 worldFromMesh = sceneMesh.worldFromMesh();
-        glm::vec3 corners[3];
-        for (size_t i = 0; i < mesh.positionIndices.size(); ++i) {
-            glm::vec3 p = mesh.positions[mesh.positionIndices[i]];
-            corners[i % 3] = glm::vec3(worldFromMesh * glm::vec4(p, 1.0f));
-            if (i % 3 == 2) addTriangle(corners[0], corners[1], corners[2], sceneMesh.material);
-        }
+    Meshes meshes;
+    // A lone triangle is a mesh of one, flat: its three corners share its own normal.
+    for (const course::SceneTriangle& t : scene.triangles) {
+        glm::vec3 normal = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+        if (glm::length(normal) > 0.0f) normal = glm::normalize(normal);
+        Mesh one{{t.p0, t.p1, t.p2}, {normal}, {0, 1, 2}, {0, 0, 0}};
+        addMesh(meshes, emitters, scene, one, glm::mat4(1.0f), t.material);
     }
+    for (const course::SceneMesh& sceneMesh : scene.meshes)
+        addMesh(meshes, emitters, scene, loadObj(sceneMesh.path), sceneMesh.worldFromMesh(),
+                sceneMesh.material);
+    for (const glm::vec4& p : meshes.positions) grow(glm::vec3(p));
+    // A float holds every integer up to 2^24 exactly, and not every one above.
+    const size_t corners = std::max(meshes.positions.size(), meshes.normals.size());
+    if (corners > (size_t(1) << 24))
+        course::fail(course::ExitCode::BadInput,
+                     scene.path + ": " + std::to_string(corners) + " corners, but the "
+                     "texels of this appendix hold their indices as floats, exact to 2^24");
+    // The triangles' run of texels, then the two runs they point into.
+    block.firstTriangleTexel = uint32_t(gpu.texels.size());
+    gpu.texels.insert(gpu.texels.end(), meshes.triangles.begin(), meshes.triangles.end());
+    block.firstPositionTexel = uint32_t(gpu.texels.size());
+    gpu.texels.insert(gpu.texels.end(), meshes.positions.begin(), meshes.positions.end());
+    block.firstNormalTexel = uint32_t(gpu.texels.size());
+    gpu.texels.insert(gpu.texels.end(), meshes.normals.begin(), meshes.normals.end());
     if (emitters.size() > MAX_EMITTERS)
         tooMany(scene, emitters.size(), "emitting shapes", MAX_EMITTERS, "MAX_EMITTERS");
     std::copy(emitters.begin(), emitters.end(), block.emitters);
     block.sphereCount = uint32_t(scene.spheres.size());
     block.quadCount = uint32_t(scene.quads.size());
-    block.triangleCount = uint32_t(triangles);
+    block.triangleCount = uint32_t(meshes.triangles.size() / TRIANGLE_TEXELS);
     block.emitterCount = uint32_t(emitters.size());
     gpu.size = glm::length(high - low);
     return gpu;

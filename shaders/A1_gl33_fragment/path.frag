@@ -45,13 +45,15 @@ vec3 offsetFromSurface(vec3 position, vec3 normal) {
 vec3 lightFromEmitters(Hit hit, inout RandomState random, inout uint rays) {
     uint chosen = min(uint(random01(random) * float(emitterCount)), emitterCount - 1u);
     LightPoint light = sampleEmitter(emitters[chosen], random2(random));
-    vec3 origin = offsetFromSurface(hit.position, hit.normal);
+    vec3 origin = offsetFromSurface(hit.position, hit.geometricNormal);
     vec3 toLight = light.position - origin;
     float distance = length(toLight);
     vec3 direction = toLight / distance;
     float cosSurface = dot(hit.normal, direction);
     float cosLight = -dot(light.normal, direction);
     if (cosSurface <= 0.0 || cosLight <= 0.0) return vec3(0.0);  // behind one or other
+    // Under the surface itself: BSDF sampling ends such paths (chapter 10), so must this.
+    if (dot(hit.geometricNormal, direction) <= 0.0) return vec3(0.0);
     rays += 1u;
     // Stop short of the light by the same kind of gap, or the light itself is in the way.
     float stop = length(offsetFromSurface(light.position, light.normal) - light.position);
@@ -82,13 +84,15 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
             float weight = 1.0;
             if (bounce > 0 && estimator == ESTIMATOR_NEE) weight = 0.0;
             if (bounce > 0 && estimator == ESTIMATOR_MIS) {
-                float cosLight = -dot(hit.normal, ray.direction);
+                float cosLight = -dot(hit.geometricNormal, ray.direction);
                 weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));
             }
             radiance += throughput * material.emission.rgb * weight;
         }
         // A surface's back is black (as Mitsuba's diffuse); --depth ends the path.
         if (!hit.front || bounce == maxBounces) break;
+        // So is a front whose smooth normal faces away from the ray (chapter 10).
+        if (dot(hit.normal, ray.direction) >= 0.0) break;
 
         // 2. Light from the emitters straight to this point (next-event estimation).
         vec3 albedo = material.albedo.rgb;
@@ -98,6 +102,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         // 3. The next direction, by cosine sampling: (albedo / pi) cos / (cos / pi) is
         //    the albedo, so the throughput only picks up the surface's colour.
         vec3 direction = cosineSampleHemisphere(hit.normal, random2(random));
+        if (dot(direction, hit.geometricNormal) <= 0.0) break;  // under it (chapter 10)
         directionPdf = max(dot(hit.normal, direction), 0.0) / PI;
         throughput *= albedo;
 
@@ -109,7 +114,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
             if (random01(random) >= survival) break;
             throughput /= survival;
         }
-        ray = Ray(offsetFromSurface(hit.position, hit.normal), direction);
+        ray = Ray(offsetFromSurface(hit.position, hit.geometricNormal), direction);
     }
     return radiance;
 }

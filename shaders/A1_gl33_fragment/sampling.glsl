@@ -48,12 +48,13 @@ LightPoint sampleEmitter(Emitter emitter, vec2 u) {
         light.normal = normalize(cross(q.edge1, q.edge2));
         material = q.material;
     } else if (emitter.shape == uint(SHAPE_TRIANGLE)) {
-        Triangle t = triangleAt(emitter.index);
+        Triangle triangle = triangleAt(emitter.index);
+        Corners t = cornersOf(triangle);
         // sqrt spreads the points evenly: without it they bunch up at p0.
         float s = sqrt(u.x);
         light.position = (1.0 - s) * t.p0 + s * (1.0 - u.y) * t.p1 + s * u.y * t.p2;
         light.normal = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
-        material = t.material;
+        material = triangle.material;
     } else {
         // Uniform on the whole sphere; points on the far side face away and add nothing.
         Sphere s = sphereAt(emitter.index);

@@ -1,7 +1,8 @@
 // The scene: spheres, quads and triangles in a buffer texture, each with a material
 // and, if it glows, its place in the emitter list (materials and emitters are in the
-// uniform block of shared.h). Every ray tests every shape (chapter 12's BVH does
-// better); the Cornell scenes have a few dozen shapes, the gems ~150.
+// uniform block of shared.h); the triangles' corners and normals in the same texture,
+// as in chapter 09. Every ray tests every shape (chapter 12's BVH does better); the
+// Cornell scenes have a few dozen shapes, the gems ~200.
 
 // --8<-- [start:fetch]
 // GL 3.3 shaders cannot read storage buffers, but they can read a buffer as a texture:
@@ -22,48 +23,52 @@ struct Quad {
     uint material;
     uint emitter;
 };
-struct Triangle {
-    vec3 p0;
-    vec3 p1;
-    vec3 p2;
+struct Triangle {  // chapter 11's: the front is where the corners run counter-clockwise
+    uvec3 corners;        // indices into the positions
     uint material;
+    uvec3 cornerNormals;  // indices into the normals, in the corners' order
     uint emitter;
 };
 
 vec4 texel(uint index) { return texelFetch(primitives, int(index)); }
 
-// A shape's last texel holds its indices as floats (shared.h): the material, and the
-// emitter, -1 when the shape does not glow.
+// Indices are stored as floats (shared.h): a sphere's or quad's last texel holds the
+// material and the emitter, -1 when the shape does not glow.
 uint materialOf(vec4 indices) { return uint(indices.x); }
-uint emitterOf(vec4 indices) { return indices.y < 0.0 ? NO_EMITTER : uint(indices.y); }
+uint emitterOf(float index) { return index < 0.0 ? NO_EMITTER : uint(index); }
 
 Sphere sphereAt(uint i) {
     uint first = firstSphereTexel + i * uint(SPHERE_TEXELS);
     vec4 centerRadius = texel(first), indices = texel(first + 1u);
-    return Sphere(centerRadius.xyz, centerRadius.w, materialOf(indices), emitterOf(indices));
+    return Sphere(centerRadius.xyz, centerRadius.w, materialOf(indices),
+                  emitterOf(indices.y));
 }
 Quad quadAt(uint i) {
     uint first = firstQuadTexel + i * uint(QUAD_TEXELS);
     vec4 indices = texel(first + 3u);
     return Quad(texel(first).xyz, texel(first + 1u).xyz, texel(first + 2u).xyz,
-                materialOf(indices), emitterOf(indices));
+                materialOf(indices), emitterOf(indices.y));
 }
 Triangle triangleAt(uint i) {
     uint first = firstTriangleTexel + i * uint(TRIANGLE_TEXELS);
-    vec4 indices = texel(first + 3u);
-    return Triangle(texel(first).xyz, texel(first + 1u).xyz, texel(first + 2u).xyz,
-                    materialOf(indices), emitterOf(indices));
+    vec4 corners = texel(first), normals = texel(first + 1u);
+    return Triangle(uvec3(corners.xyz), uint(corners.w), uvec3(normals.xyz),
+                    emitterOf(normals.w));
 }
+// Chapter 11's positions[i] and normals[i]: the triangles' corners and their normals.
+vec4 positionAt(uint i) { return texel(firstPositionTexel + i); }
+vec4 normalAt(uint i) { return texel(firstNormalTexel + i); }
 // --8<-- [end:fetch]
 
 // What a ray found.
 struct Hit {
     float t;
     vec3 position;
-    vec3 normal;     // unit length, on the shape's front side (outside, for a sphere)
-    bool front;      // did the ray arrive at the front?
+    vec3 normal;           // unit, on the front side: to shade with (smooth on a mesh)
+    vec3 geometricNormal;  // unit, on the front side: the surface's own, flat
+    bool front;            // did the ray arrive at the front of the surface itself?
     uint material;
-    uint emitter;    // index into the emitter list, or NO_EMITTER
+    uint emitter;          // index into the emitter list, or NO_EMITTER
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
@@ -99,28 +104,14 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
     return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;
 }
 
-// Moller-Trumbore, both sides (chapter 06).
-bool hitTriangle(Ray ray, Triangle triangle, float tMin, float tMax, out float t) {
-    vec3 edge1 = triangle.p1 - triangle.p0;
-    vec3 edge2 = triangle.p2 - triangle.p0;
-    vec3 p = cross(ray.direction, edge2);
-    float determinant = dot(edge1, p);
-    if (abs(determinant) < 1e-20) return false;
-    float inverse = 1.0 / determinant;
-    vec3 toOrigin = ray.origin - triangle.p0;
-    float u = dot(toOrigin, p) * inverse;
-    if (u < 0.0 || u > 1.0) return false;
-    vec3 q = cross(toOrigin, edge1);
-    float v = dot(ray.direction, q) * inverse;
-    if (v < 0.0 || u + v > 1.0) return false;
-    t = dot(edge2, q) * inverse;
-    return t > tMin && t < tMax;
-}
+// Chapter 09's triangles: hitTriangle, smoothNormal, triangleHit.
+#include "triangle.glsl"
 
-// Fills in a hit from the shape's front normal, material and emitter.
+// Fills in a hit on a sphere or a quad from its front normal, material and emitter:
+// the same normal to shade with and to tell the sides apart.
 Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
     vec3 normal = normalize(frontNormal);
-    return Hit(t, ray.origin + t * ray.direction, normal,
+    return Hit(t, ray.origin + t * ray.direction, normal, normal,
                dot(normal, ray.direction) < 0.0, material, emitter);
 }
 
@@ -130,6 +121,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1;
     uint index = 0u;
     float t;
+    vec2 barycentric, hitBarycentric;
     for (uint i = 0u; i < sphereCount; ++i)
         if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -139,8 +131,8 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
     for (uint i = 0u; i < triangleCount; ++i)
-        if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = i;
+        if (hitTriangle(ray, cornersOf(triangleAt(i)), tMin, tMax, t, barycentric)) {
+            tMax = t; kind = SHAPE_TRIANGLE; index = i; hitBarycentric = barycentric;
         }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
@@ -151,9 +143,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         Quad q = quadAt(index);
         hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
-        Triangle tr = triangleAt(index);
-        hit = makeHit(ray, tMax, cross(tr.p1 - tr.p0, tr.p2 - tr.p0), tr.material,
-                      tr.emitter);
+        hit = triangleHit(ray, tMax, hitBarycentric, triangleAt(index));
     }
     return kind >= 0;
 }
@@ -162,11 +152,12 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
+    vec2 barycentric;
     for (uint i = 0u; i < sphereCount; ++i)
         if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) return true;
     for (uint i = 0u; i < quadCount; ++i)
         if (hitQuad(ray, quadAt(i), tMin, tMax, t)) return true;
     for (uint i = 0u; i < triangleCount; ++i)
-        if (hitTriangle(ray, triangleAt(i), tMin, tMax, t)) return true;
+        if (hitTriangle(ray, cornersOf(triangleAt(i)), tMin, tMax, t, barycentric)) return true;
     return false;
 }

@@ -33,15 +33,19 @@
 
 // --8<-- [start:texels]
 // Shapes live in one buffer texture of RGBA32F texels, read with texelFetch: spheres
-// first, then quads, then triangles, each a run of texels. A texel holds four floats,
-// so a shape's material and emitter indices are stored as float numbers (exact below
-// 2^24), the emitter as -1 when the shape does not glow.
+// first, then quads, then triangles, each a run of texels; then the two runs the
+// triangles point into, chapter 11's positions and normals. A texel holds four floats,
+// so indices are stored as float numbers (exact up to 2^24), the emitter as -1 when the
+// shape does not glow.
 //   sphere    centre and radius; (material, emitter, 0, 0)
 //   quad      origin; edge1; edge2; (material, emitter, 0, 0)
-//   triangle  p0; p1; p2; (material, emitter, 0, 0)
+//   triangle  (corners, material); (cornerNormals, emitter): chapter 11's Triangle,
+//             its corners' indices into the positions and theirs into the normals
+//   position  a triangle corner, in the world (w unused)
+//   normal    the unit normal at a corner (w unused)
 #define SPHERE_TEXELS 2
 #define QUAD_TEXELS 4
-#define TRIANGLE_TEXELS 4
+#define TRIANGLE_TEXELS 2
 // --8<-- [end:texels]
 
 // A uniform block has a fixed size: these many materials and emitters, 12 KiB with the
@@ -93,10 +97,12 @@ layout(std140) uniform SceneBlock {
     uint quadCount;
     uint triangleCount;
     uint emitterCount;
-    uint firstSphereTexel;  // where each kind of shape begins in the buffer texture
+    uint firstSphereTexel;  // where each run of texels begins in the buffer texture
     uint firstQuadTexel;
     uint firstTriangleTexel;
-    uint unused;  // std140 starts an array of structs at a multiple of 16 bytes
+    uint firstPositionTexel;
+    uint firstNormalTexel;
+    uint padding0, padding1, padding2;  // std140 starts an array of structs at 16n bytes
     Material materials[MAX_MATERIALS];
     Emitter emitters[MAX_EMITTERS];
 };
@@ -143,9 +149,10 @@ static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std140 Emitter");
 static_assert(offsetof(SceneBlock, emitterCount) == 12 &&
                   offsetof(SceneBlock, firstSphereTexel) == 16 &&
-                  offsetof(SceneBlock, materials) == 32 &&
-                  offsetof(SceneBlock, emitters) == 32 + 32 * MAX_MATERIALS &&
-                  sizeof(SceneBlock) == 32 + 32 * MAX_MATERIALS + 16 * MAX_EMITTERS,
+                  offsetof(SceneBlock, firstNormalTexel) == 32 &&
+                  offsetof(SceneBlock, materials) == 48 &&
+                  offsetof(SceneBlock, emitters) == 48 + 32 * MAX_MATERIALS &&
+                  sizeof(SceneBlock) == 48 + 32 * MAX_MATERIALS + 16 * MAX_EMITTERS,
               "std140 SceneBlock");
 static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
                   offsetof(PinholeCamera, forward) == 16 &&

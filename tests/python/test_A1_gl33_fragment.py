@@ -3,7 +3,8 @@
 It runs on contexts that really are 3.3 (Mesa with its version forced down, on EGL and
 on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
 chapter 11's: on llvmpipe the same seed gives the same bits (the random streams, the
-arithmetic and the order of the samples are the same), and with another seed the
+arithmetic and the order of the samples are the same), for spheres and for triangles
+(faceted gems, smooth teapots, a lone glowing triangle), and with another seed the
 regions of the Cornell box agree within their statistical error
 (book/docs/maintainers.md)."""
 
@@ -23,6 +24,7 @@ from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shader
                       xvfb_available)
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
+SCENES = ROOT / "assets" / "scenes"
 SIGMAS = 4.5  # as chapter 11's checks: a correct renderer fails 1 in ~150,000
 SIZE = ("--width", "48", "--height", "48")
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
@@ -68,7 +70,7 @@ def test_runs_on_gl33_contexts_egl_and_osmesa(pictures):
 
 
 @pytest.mark.parametrize("light", ["global", "direct"])
-def test_same_seed_same_samples_as_chapter_10(pictures, light):
+def test_same_seed_same_samples_as_chapter_11(pictures, light):
     # The same random streams, rays and arithmetic, one sample per pass as chapter 11 has
     # one per dispatch: on llvmpipe (one compiler for compute and fragment shaders) the
     # images are the same bits, and every pixel traced the same number of rays. Another
@@ -83,18 +85,84 @@ def test_same_seed_same_samples_as_chapter_10(pictures, light):
 
 
 @pytest.mark.parametrize("light", ["global", "direct"])
-def test_regions_agree_with_chapter_10_statistically(pictures, light):
+def test_regions_agree_with_chapter_11_statistically(pictures, light):
     # Independent streams (seed 2 against chapter 11's seed 1): each wall and sphere's
     # mean within 4.5 standard errors of the difference.
     ours, theirs = pictures["egl", light, 2][0], pictures["11", light, 1][0]
     assert not np.array_equal(ours, theirs)
     # The light has too few pixels wholly inside it at 48 x 48 to be compared.
     compared = regions_agreeing(ours, theirs,
-                                ROOT / "assets" / "scenes" / "cornell_spheres.scene", SIGMAS)
+                                SCENES / "cornell_spheres.scene", SIGMAS)
     assert compared >= 7  # five walls, two spheres
 
 
-def test_random_numbers_are_chapter_10s_file(tmp_path):
+# --- Triangles: chapter 11's meshes and normals, the same bits ------------------------
+
+# The empty room with a lone glowing triangle on the back wall (flat: its corners share
+# its own normal; NEE samples it, MIS weighs the paths that run into it) and the
+# 552-triangle teapot from a file without normals (chapter 08's area-weighted ones).
+LAMP_AND_TEAPOT = (SCENES / "cornell_room.scene").read_text() + """
+material lamp albedo 0.5 0.5 0.5 emission 4 6 12
+triangle -0.7 0.3 -0.99  -0.3 0.3 -0.99  -0.5 0.7 -0.99  lamp
+mesh meshes/teapot_552_no_normals.obj white scale 0.3 rotate_y 30 translate 0 -1 0
+"""
+# Small and few samples, and every scene's shapes x 2 (--depth + 1) under the 65 535 loop
+# iterations of Mesa 22's llvmpipe, or both programs would refuse it (exit code 4).
+TRIANGLE_SCENES = {
+    # 218 shapes: faceted gems, each facet with its normal from the file.
+    "gems": ["--scene", "cornell_gems", "--width", 32, "--height", 32, "--spp", 8],
+    # 6 326 shapes: the file's smooth normals; only --direct stays under the limit.
+    "teapot": ["--scene", "cornell_teapot", "--direct", "--width", 24, "--height", 24,
+               "--spp", 4],
+    # 559 shapes, 3 bounces.
+    "lamp_and_teapot": ["--scene", "lamp_and_teapot.scene", "--depth", 3, "--width", 32,
+                        "--height", 32, "--spp", 8],
+}
+
+
+@pytest.fixture(scope="module")
+def triangle_pictures(tmp_path_factory):
+    """Chapter 11 and the appendix (forced 3.3, EGL), seed 1, on each TRIANGLE_SCENES."""
+    folder = tmp_path_factory.mktemp("triangles")
+    (folder / "lamp_and_teapot.scene").write_text(LAMP_AND_TEAPOT)
+    runs = {}
+    for name, options in TRIANGLE_SCENES.items():
+        options = [folder / o if str(o).endswith(".scene") else o for o in options]
+        runs["11", name] = render(folder, "11", f"c11_{name}", *options, "--seed", 1)
+        runs["A1", name] = render(folder, "A1", f"a1_{name}", *options, "--seed", 1,
+                                  env=GL33)
+    return runs
+
+
+@pytest.mark.parametrize("scene", list(TRIANGLE_SCENES))
+def test_triangles_same_seed_same_samples_as_chapter_11(triangle_pictures, scene):
+    # The same corners and normals (placed in the world on the CPU as chapter 11 does),
+    # the same hit test, normal blending and rules for the two normals: the same bits.
+    ours, our_stats = triangle_pictures["A1", scene]
+    theirs, their_stats = triangle_pictures["11", scene]
+    for count in ("shapes", "emitters", "rays"):
+        assert our_stats[count] == their_stats[count], count
+    assert theirs.mean() > 0.01  # not a black picture
+    if "llvmpipe" in our_stats["renderer"]:
+        assert np.array_equal(ours, theirs)
+    else:
+        assert np.abs(ours - theirs).mean() < 0.01 * theirs.mean()
+
+
+def test_flat_shading_normals_would_be_caught(tmp_path, triangle_pictures):
+    # A check that cannot fail is not a check: the appendix shading the teapot with its
+    # facets' own normals, as it did before it followed chapter 11, is not chapter 11's.
+    shaders = copy_shaders("A1", tmp_path)
+    triangle = shaders / "triangle.glsl"
+    smooth = "vec3 normal = smoothNormal(normalsOf(triangle), barycentric, geometricNormal);"
+    assert smooth in triangle.read_text()
+    triangle.write_text(triangle.read_text().replace(smooth, "vec3 normal = geometricNormal;"))
+    flat, _ = render(tmp_path, "A1", "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
+                     "--shader-dir", shaders, env=GL33)
+    assert not np.array_equal(flat, triangle_pictures["11", "teapot"][0])
+
+
+def test_random_numbers_are_chapter_11s_file(tmp_path):
     # Bit for bit the same generator: the very same GLSL (it needs nothing above 3.30).
     ours = (ROOT / "shaders" / "A1_gl33_fragment" / "random.glsl").read_bytes()
     assert ours == (ROOT / "shaders" / "11_light_sampling" / "random.glsl").read_bytes()
@@ -241,7 +309,24 @@ def test_more_texels_than_the_buffer_texture_holds_is_exit_4(tmp_path):
     assert result.returncode == 0, result.stderr
 
 
-def test_too_many_loop_iterations_are_refused_as_in_chapter_10(tmp_path):
+def test_a_triangles_corners_and_normal_count_in_the_texels(tmp_path):
+    # The room's 6 quads (24 texels) and one triangle: 2 texels of indices, 3 corners
+    # and the 1 normal they share (shared.h), 30 texels in all.
+    scene = tmp_path / "one_triangle.scene"
+    scene.write_text((SCENES / "cornell_room.scene").read_text() +
+                     "triangle -0.5 -1 0  0.5 -1 0  0 0 0  white\n")
+    out = tmp_path / "x.png"
+    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out,
+                         env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "29"})
+    assert result.returncode == 4, result.stderr
+    assert "7 shapes need 30 texels" in result.stderr
+    assert not out.exists()
+    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out, "--width", 8,
+                         "--height", 8, env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "30"})
+    assert result.returncode == 0, result.stderr
+
+
+def test_too_many_loop_iterations_are_refused_as_in_chapter_11(tmp_path):
     # ~220 shapes x 1001 bounces: far beyond the 65535 iterations an invocation gets on
     # Mesa 22's llvmpipe. Refused where the appendix measures a limit for its fragment
     # shaders; drawn where there is none (paths end long before 1000 bounces).
