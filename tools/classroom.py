@@ -243,7 +243,8 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
             shutil.copy2(source, target)
 
     # third_party: the pinned stb header, which a Mac (no libstb-dev) builds with.
-    for relative in ("course", "requirements", "tools/course.py", "tools/machine_setup.py",
+    for relative in ("course", "requirements", "tools/course.py", "tools/manifests.py",
+                     f"manifests/{chapter}.ini", "tools/machine_setup.py",
                      "tools/platforms.py", "tools/platforms.ini", "cmake", "common",
                      "third_party", "tests/python/conftest.py",
                      "tests/python/test_command_line.py", ".gitignore"):

@@ -156,21 +156,23 @@ def cmd_list(args):
         print(f"{name:24} {chapter_summary(name)}")
 
 
-# What ./course run shows of a chapter when no options are given: Monte Carlo chapters
-# need samples to look like their book page (about half a minute on llvmpipe).
-SHOWCASE_OPTIONS = {
-    "10_path_tracing": ["--width", "400", "--height", "400", "--spp", "64"],
-    "11_light_sampling": ["--width", "400", "--height", "400", "--spp", "64"],
-    "12_bvh": ["--width", "320", "--height", "320", "--spp", "48"],
-    "A1_gl33_fragment": ["--width", "400", "--height", "400", "--spp", "64"],
-}
+def chapter_manifests():
+    """manifests/NN_name.ini of every chapter (tools/manifests.py); a broken one is a
+    clear message and exit code 3, like any bad input file."""
+    import manifests
+    try:
+        return manifests.load(ROOT, chapters())
+    except manifests.ManifestError as error:
+        die(str(error), code=3)
 
 
 def cmd_run(args):
     numbered = [name for name in chapters() if name[:2].isdigit()]  # not the appendices
     name = find_chapter(args.chapter) if args.chapter else numbered[-1]
     build([name])
-    options = list(args.options) or list(SHOWCASE_OPTIONS.get(name, []))
+    # With no options, the manifest's: Monte Carlo chapters need samples to look like
+    # their book page (about half a minute on llvmpipe).
+    options = list(args.options) or list(chapter_manifests()[name].run)
     if "--window" not in options and "--headless" not in options:
         options.insert(0, "--headless")
     out = None
@@ -447,9 +449,10 @@ def draft_arguments(arguments: list[str]) -> list[str]:
 
 
 def figure_rows() -> list[tuple[str, str, str]]:
-    """(figure, program, arguments) of every picture in the book (book/figures.tsv)."""
-    return [tuple(line.split("\t")) for line in (BOOK / "figures.tsv").read_text().splitlines()
-            if line.strip() and not line.startswith("#")]
+    """(figure, program, arguments) of every picture in the book: the [figures] of each
+    chapter's manifest, in the chapters' order."""
+    return [(f.name, f.program, f.arguments) for manifest in chapter_manifests().values()
+            for f in manifest.figures]
 
 
 def figure_programs(rows) -> list[str]:
@@ -459,7 +462,7 @@ def figure_programs(rows) -> list[str]:
 
 
 def render_figures(rows, out: Path, draft: bool = False):
-    """Renders figures (rows of figures.tsv) into `out`, with the real programs."""
+    """Renders figures (rows of figure_rows()) into `out`, with the real programs."""
     out.mkdir(parents=True, exist_ok=True)
     for figure, program, arguments in rows:
         if program.startswith("python_prototypes/"):
@@ -474,7 +477,7 @@ def render_figures(rows, out: Path, draft: bool = False):
 
 
 def render_book_figures(draft: bool = False):
-    """Every picture in the book comes from the real programs, listed in figures.tsv."""
+    """Every picture in the book comes from the real programs, listed in the manifests."""
     render_figures(figure_rows(), GENERATED, draft)
     for a, b in book_diff_pairs():
         lines = [l for _, d in checkpoint_diff(a, b) for l in d]
@@ -483,18 +486,14 @@ def render_book_figures(draft: bool = False):
     (GENERATED / "diff_sizes.md").write_text(editions.diff_size_table(ROOT, book_diff_pairs()))
 
 
-# An appendix starts as a copy of a numbered chapter, not of whatever comes before it in
-# CMakeLists.txt: the book shows its diff against that chapter (diff_10_A1.diff).
-APPENDIX_BASES = {"A1_gl33_fragment": "11_light_sampling"}
-
-
 def book_diff_pairs() -> list[tuple[str, str]]:
     """(from, to) of every diff the book includes: each numbered chapter against the
-    one before it, each appendix against the chapter it was copied from."""
-    names = chapters()
-    numbered = [name for name in names if name[:2].isdigit()]
+    one before it, each appendix against the chapter it was copied from (its manifest's
+    `base`, not whatever comes before it in CMakeLists.txt)."""
+    manifests = chapter_manifests()
+    numbered = [name for name in manifests if name[:2].isdigit()]
     pairs = list(zip(numbered, numbered[1:]))
-    return pairs + [(APPENDIX_BASES[name], name) for name in names if name in APPENDIX_BASES]
+    return pairs + [(m.base, name) for name, m in manifests.items() if m.base]
 
 
 def cmd_book(args):

@@ -11,14 +11,18 @@ import pytest
 
 from conftest import ROOT, read_image
 
+sys.path.insert(0, str(ROOT / "tools"))
+import course  # noqa: E402  (figure_rows: every chapter manifest's pictures)
+import manifests  # noqa: E402
+
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
 
 
 def test_book_builds_strictly_with_real_figures(built_book):
     site = built_book
     assert (site / "index.html").exists()
-    figures = [line.split("\t")[0] for line in (ROOT / "book" / "figures.tsv").read_text()
-               .splitlines() if line.strip() and not line.startswith("#")]
+    figures = [figure for figure, _, _ in course.figure_rows()]
+    assert len(figures) >= 40
     for figure in figures:
         rendered = ROOT / "book" / "docs" / "generated" / figure
         image = read_image(rendered)
@@ -28,6 +32,34 @@ def test_book_builds_strictly_with_real_figures(built_book):
     page = (site / "chapters" / "02_first_pixels" / "index.html").read_text()
     assert "patternColor" in page  # code pulled from the real shader
     assert "--8&lt;--" not in page and "--8<--" not in page
+
+
+def test_every_chapter_has_a_manifest_and_every_picture_is_listed(built_book):
+    """The manifests name every chapter's title, summary and pictures: the navigation
+    and the front page's list come from them, and each picture a page shows is one a
+    manifest renders (and none is rendered for no page)."""
+    found = manifests.load(ROOT, course.chapters())
+    assert list(found) == course.chapters()
+    index = (built_book / "index.html").read_text()
+    shown = set()
+    for name, manifest in found.items():
+        assert f'href="chapters/{name}/"' in index and manifest.title in index, name
+        page = (ROOT / "book" / "docs" / "chapters" / f"{name}.md").read_text()
+        shown |= set(re.findall(r"\.\./generated/([\w.-]+\.png)", page))
+    assert shown == {figure for figure, _, _ in course.figure_rows()}
+
+
+def test_a_broken_manifest_is_a_clear_error(tmp_path):
+    bad = tmp_path / "manifests" / "01_buffer_add.ini"
+    bad.parent.mkdir()
+    bad.write_text("[chapter]\ntitle = Buffer add\n")
+    with pytest.raises(manifests.ManifestError, match="01_buffer_add.ini: \\[chapter\\] needs a summary"):
+        manifests.load(tmp_path, ["01_buffer_add"])
+    bad.write_text("[chapter]\ntitle = x\nsummary = y\n[figures]\nnot_a_png = 01\n")
+    with pytest.raises(manifests.ManifestError, match="expected NAME.png = PROGRAM"):
+        manifests.load(tmp_path, ["01_buffer_add"])
+    with pytest.raises(manifests.ManifestError, match="missing"):
+        manifests.load(tmp_path, ["02_first_pixels"])
 
 
 def test_diff_shows_only_what_the_chapter_adds():
