@@ -68,8 +68,10 @@ struct MaterialUse {
 
 class SceneParser {
 public:
-    SceneParser(std::string shownPath, std::vector<std::string> meshFolders)
-        : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)) {
+    SceneParser(std::string shownPath, std::vector<std::string> meshFolders,
+                AcceptedMaterials accepted)
+        : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)),
+          accepted_(accepted) {
         scene_.path = path_;
     }
 
@@ -115,6 +117,13 @@ public:
                 failAt(use.line, "material " + inQuotes(use.name) + " is not defined");
             materialOf(use) = found->second;
         }
+        if (accepted_ == AcceptedMaterials::DiffuseOnly)
+            for (const SceneMaterial& material : scene_.materials)
+                if (material.kind != MaterialKind::Diffuse)
+                    failAt(material.line, "material " + inQuotes(material.name) + " is a " +
+                                              materialKindWord(material.kind) +
+                                              ": this program renders only diffuse "
+                                              "materials ('albedo R G B')");
         if (cameraLine_ == 0)
             failAt(0, "no camera: a scene needs one 'camera' line");
         if (scene_.emitterCount() == 0)
@@ -201,10 +210,13 @@ private:
     }
 
     // material NAME albedo R G B [emission R G B]
+    //          NAME mirror [reflectance R G B]
+    //          NAME conductor eta R G B k R G B [roughness A]
+    //          NAME dielectric ior N [roughness A]
     void readMaterial(const Words& words) {
-        if (words.size() != 5 && words.size() != 9)
-            fail("'material' needs 5 fields (NAME albedo R G B) or 9 (... emission R G B), "
-                 "got " + std::to_string(words.size()));
+        if (words.size() < 2)
+            fail("'material' needs a name and a kind (NAME albedo R G B, NAME mirror, "
+                 "NAME conductor eta R G B k R G B, NAME dielectric ior N)");
         const std::string_view name = words[0];
         if (!isName(name))
             fail("material name " + inQuotes(name) + ": " + kNameRule);
@@ -213,25 +225,102 @@ private:
         if (earlier != materialLines_.end())
             fail("material " + inQuotes(name) + " is already defined on line " +
                  std::to_string(earlier->second));
-        expectLabel(words, 1, "albedo", "material");
 
         SceneMaterial material;
         material.name = key;
-        material.albedo = readVector(words, 2);
-        for (int c = 0; c < 3; ++c)
-            if (material.albedo[c] < 0.0f || material.albedo[c] > 1.0f)
-                fail("albedo " + inQuotes(words[2 + c]) + " is outside [0, 1]: a surface "
-                     "cannot reflect more light than reaches it");
-        if (words.size() == 9) {
-            expectLabel(words, 5, "emission", "material");
-            material.emission = readVector(words, 6);
-            for (int c = 0; c < 3; ++c)
-                if (material.emission[c] < 0.0f)
-                    fail("emission " + inQuotes(words[6 + c]) + " is negative");
+        material.line = lineNumber_;
+        const std::string_view kind = words[1];
+        size_t next = 2;  // the first word after the kind
+        if (kind == "albedo") {
+            material.kind = MaterialKind::Diffuse;
+            material.albedo = readFraction(words, next, "albedo");
+            next += 3;
+        } else if (kind == "mirror") {
+            material.kind = MaterialKind::Mirror;
+        } else if (kind == "conductor") {
+            material.kind = MaterialKind::Conductor;
+            expectWords(words, next + 8, "conductor eta R G B k R G B");
+            expectLabel(words, next, "eta", "material");
+            material.eta = readVector(words, next + 1);
+            expectLabel(words, next + 4, "k", "material");
+            material.k = readVector(words, next + 5);
+            for (int c = 0; c < 3; ++c) {
+                if (!(material.eta[c] > 0.0f))
+                    fail("eta " + inQuotes(words[next + 1 + c]) + " must be above 0");
+                if (material.k[c] < 0.0f)
+                    fail("k " + inQuotes(words[next + 5 + c]) + " is negative");
+            }
+            next += 8;
+        } else if (kind == "dielectric") {
+            material.kind = MaterialKind::Dielectric;
+            expectWords(words, next + 2, "dielectric ior N");
+            expectLabel(words, next, "ior", "material");
+            material.ior = readNumber(words[next + 1]);
+            if (!(material.ior > 0.0f))
+                fail("ior " + inQuotes(words[next + 1]) + " must be above 0");
+            next += 2;
+        } else {
+            fail("unknown material kind " + inQuotes(kind) +
+                 " (expected albedo, mirror, conductor or dielectric)");
+        }
+        // The optional words, each once, each only where it means something.
+        const std::string described =
+            "material " + inQuotes(name) + " (" + materialKindWord(material.kind) + ")";
+        bool seenEmission = false, seenReflectance = false, seenRoughness = false;
+        while (next < words.size()) {
+            const std::string_view option = words[next];
+            if (option == "emission" && material.kind != MaterialKind::Diffuse) {
+                fail("only an 'albedo' material may have an emission, not " + described);
+            } else if (option == "emission" && !seenEmission) {
+                material.emission = readNonNegative(words, next + 1, "emission");
+                seenEmission = true;
+                next += 4;
+            } else if (option == "reflectance" && material.kind == MaterialKind::Mirror &&
+                       !seenReflectance) {
+                material.reflectance = readFraction(words, next + 1, "reflectance");
+                seenReflectance = true;
+                next += 4;
+            } else if (option == "roughness" && !seenRoughness &&
+                       (material.kind == MaterialKind::Conductor ||
+                        material.kind == MaterialKind::Dielectric)) {
+                if (next + 1 >= words.size())
+                    fail("roughness needs a number, the GGX alpha");
+                material.roughness = readNumber(words[next + 1]);
+                if (material.roughness < 0.0f)
+                    fail("roughness " + inQuotes(words[next + 1]) + " is negative");
+                seenRoughness = true;
+                next += 2;
+            } else {
+                fail("unexpected " + inQuotes(option) + " in " + described);
+            }
         }
         materialLines_[key] = lineNumber_;
         materialIndex_[key] = uint32_t(scene_.materials.size());
         scene_.materials.push_back(material);
+    }
+
+    void expectWords(const Words& words, size_t atLeast, const char* form) const {
+        if (words.size() < atLeast)
+            fail("'material' " + std::string(form) + ": too few fields");
+    }
+
+    glm::vec3 readNonNegative(const Words& words, size_t first, std::string_view what) const {
+        if (first + 3 > words.size())
+            fail(std::string(what) + " needs three numbers R G B");
+        const glm::vec3 value = readVector(words, first);
+        for (int c = 0; c < 3; ++c)
+            if (value[c] < 0.0f)
+                fail(std::string(what) + " " + inQuotes(words[first + c]) + " is negative");
+        return value;
+    }
+
+    glm::vec3 readFraction(const Words& words, size_t first, std::string_view what) const {
+        const glm::vec3 value = readNonNegative(words, first, what);
+        for (int c = 0; c < 3; ++c)
+            if (value[c] > 1.0f)
+                fail(std::string(what) + " " + inQuotes(words[first + c]) +
+                     " is outside [0, 1]: a surface cannot reflect more light than reaches it");
+        return value;
     }
 
     // Called before the shape is appended to its vector: `shape` is its index there.
@@ -381,6 +470,7 @@ private:
 
     std::string path_;
     std::vector<std::string> meshFolders_;
+    AcceptedMaterials accepted_;
     size_t lineNumber_ = 0;
     size_t cameraLine_ = 0;
     std::unordered_map<std::string, size_t> materialLines_;
@@ -393,8 +483,9 @@ private:
 
 // --8<-- [start:load]
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
-                         const std::vector<std::string>& meshFolders) {
-    SceneParser parser(shownPath, meshFolders);
+                         const std::vector<std::string>& meshFolders,
+                         AcceptedMaterials accepted) {
+    SceneParser parser(shownPath, meshFolders, accepted);
     if (text.empty())
         parser.failAt(0, "empty file");
     if (text.substr(0, 3) == "\xEF\xBB\xBF")
@@ -408,10 +499,21 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
     return parser.finish();
 }
 
-SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders) {
+SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders,
+                        AcceptedMaterials accepted) {
     const std::string shownPath = absolutePath(path);
     const std::string text = readWholeFile(path, kMostBytes, "a scene file");
-    return parseSceneText(text, shownPath, meshFolders);
+    return parseSceneText(text, shownPath, meshFolders, accepted);
+}
+
+const char* materialKindWord(MaterialKind kind) {
+    switch (kind) {
+    case MaterialKind::Mirror: return "mirror";
+    case MaterialKind::Conductor: return "conductor";
+    case MaterialKind::Dielectric: return "dielectric";
+    case MaterialKind::Diffuse: break;
+    }
+    return "albedo";
 }
 // --8<-- [end:load]
 
@@ -460,9 +562,23 @@ std::string formatSceneFile(const SceneFile& scene) {
                        " up " + numbers(camera.up) + " focal " + number(camera.focalLength) +
                        " sensor " + number(camera.sensorWidth) + "\n";
     for (const SceneMaterial& material : scene.materials) {
-        text += "material " + material.name + " albedo " + numbers(material.albedo);
-        if (material.emits())
-            text += " emission " + numbers(material.emission);
+        text += "material " + material.name + " " + materialKindWord(material.kind);
+        switch (material.kind) {
+        case MaterialKind::Diffuse:
+            text += " " + numbers(material.albedo);
+            if (material.emits()) text += " emission " + numbers(material.emission);
+            break;
+        case MaterialKind::Mirror:
+            text += " reflectance " + numbers(material.reflectance);
+            break;
+        case MaterialKind::Conductor:
+            text += " eta " + numbers(material.eta) + " k " + numbers(material.k);
+            break;
+        case MaterialKind::Dielectric:
+            text += " ior " + number(material.ior);
+            break;
+        }
+        if (material.roughness > 0.0f) text += " roughness " + number(material.roughness);
         text += "\n";
     }
     auto name = [&scene](uint32_t material) { return scene.materials.at(material).name; };

@@ -105,6 +105,28 @@ def write_triangles_obj(path: Path, triangles) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+def mitsuba_bsdf(material: scene_io.Material) -> dict:
+    """The scene format's materials in Mitsuba 3's words (common/course/scene_file.h):
+    albedo -> diffuse; mirror -> conductor, material none, specular_reflectance;
+    conductor -> conductor or roughconductor (GGX, visible normals) with eta and k;
+    dielectric -> dielectric or roughdielectric, int_ior N, ext_ior 1."""
+    def rgb(values):
+        return {"type": "rgb", "value": list(values)}
+    if material.kind == "albedo":
+        return {"type": "diffuse", "reflectance": rgb(material.albedo)}
+    if material.kind == "mirror":
+        return {"type": "conductor", "material": "none",
+                "specular_reflectance": rgb(material.reflectance)}
+    rough = {"distribution": "ggx", "alpha": material.roughness, "sample_visible": True}
+    if material.kind == "conductor":
+        bsdf = {"eta": rgb(material.eta), "k": rgb(material.k)}
+        return {"type": "roughconductor", **rough, **bsdf} if material.roughness > 0 \
+            else {"type": "conductor", **bsdf}
+    bsdf = {"int_ior": material.ior, "ext_ior": 1.0}
+    return {"type": "roughdielectric", **rough, **bsdf} if material.roughness > 0 \
+        else {"type": "dielectric", **bsdf}
+
+
 def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounces: int,
                        spp: int = 16, work_folder: Path | None = None) -> dict:
     """A Mitsuba scene dictionary for our scene. Triangles are written as OBJ files into
@@ -131,9 +153,7 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
         },
     }
     for name, material in scene.materials.items():
-        result[f"material_{name}"] = {
-            "type": "diffuse",
-            "reflectance": {"type": "rgb", "value": list(material.albedo)}}
+        result[f"material_{name}"] = mitsuba_bsdf(material)
 
     def surface(shape_dict, material_name):
         shape_dict["bsdf"] = {"type": "ref", "id": f"material_{material_name}"}

@@ -4,6 +4,9 @@ common/course/scene_file.h and in assets/scenes/README.md:
 
     camera eye X Y Z look X Y Z up X Y Z focal F sensor S
     material NAME albedo R G B [emission R G B]
+    material NAME mirror [reflectance R G B]
+    material NAME conductor eta R G B k R G B [roughness A]
+    material NAME dielectric ior N [roughness A]
     sphere CX CY CZ RADIUS MATERIAL [name NAME]
     quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
     triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
@@ -61,8 +64,14 @@ class SceneCamera:
 @dataclass
 class Material:
     name: str
-    albedo: tuple
-    emission: tuple = (0.0, 0.0, 0.0)
+    albedo: tuple = (0.0, 0.0, 0.0)    # albedo: the reflected fraction per channel
+    emission: tuple = (0.0, 0.0, 0.0)  # albedo only: the emitted radiance
+    kind: str = "albedo"               # "albedo", "mirror", "conductor" or "dielectric"
+    reflectance: tuple = (1.0, 1.0, 1.0)  # mirror
+    eta: tuple = (1.0, 1.0, 1.0)       # conductor: the complex index eta + i k
+    k: tuple = (0.0, 0.0, 0.0)
+    ior: float = 1.5                   # dielectric: the index inside (outside: 1)
+    roughness: float = 0.0             # conductor, dielectric: GGX alpha; 0 is smooth
 
     @property
     def emits(self) -> bool:
@@ -219,28 +228,91 @@ def read_camera(words) -> SceneCamera:
     return camera
 
 
+def read_fraction(words, first: int, what: str) -> tuple:
+    values = read_non_negative(words, first, what)
+    for word, value in zip(words[first:first + 3], values):
+        if value > 1:
+            raise SceneError(f"{what} '{word}' is outside [0, 1]: a surface cannot reflect "
+                             "more light than reaches it")
+    return values
+
+
+def read_non_negative(words, first: int, what: str) -> tuple:
+    if first + 3 > len(words):
+        raise SceneError(f"{what} needs three numbers R G B")
+    values = vector(words, first)
+    for word, value in zip(words[first:first + 3], values):
+        if value < 0:
+            raise SceneError(f"{what} '{word}' is negative")
+    return values
+
+
 def read_material(words) -> Material:
-    if len(words) not in (5, 9):
-        raise SceneError("'material' needs 5 fields (NAME albedo R G B) or 9 "
-                         f"(... emission R G B), got {len(words)}")
-    name = words[0]
+    """material NAME albedo R G B [emission R G B] | NAME mirror [reflectance R G B] |
+    NAME conductor eta R G B k R G B [roughness A] | NAME dielectric ior N [roughness A]"""
+    if len(words) < 2:
+        raise SceneError("'material' needs a name and a kind (NAME albedo R G B, NAME "
+                         "mirror, NAME conductor eta R G B k R G B, NAME dielectric ior N)")
+    name, kind = words[0], words[1]
     if not NAME.match(name):
         raise SceneError(f"material name '{name}': use letters, digits, '_' and '-', "
                          "starting with a letter or '_'")
-    expect_label(words, 1, "albedo", "material")
-    albedo = vector(words, 2)
-    for word, value in zip(words[2:5], albedo):
-        if not 0 <= value <= 1:
-            raise SceneError(f"albedo '{word}' is outside [0, 1]: a surface cannot reflect "
-                             "more light than reaches it")
-    emission = (0.0, 0.0, 0.0)
-    if len(words) == 9:
-        expect_label(words, 5, "emission", "material")
-        emission = vector(words, 6)
-        for word, value in zip(words[6:9], emission):
-            if value < 0:
-                raise SceneError(f"emission '{word}' is negative")
-    return Material(name, albedo, emission)
+    material = Material(name, kind=kind)
+    at = 2  # the first word after the kind
+    if kind == "albedo":
+        material.albedo = read_fraction(words, at, "albedo")
+        at += 3
+    elif kind == "mirror":
+        pass
+    elif kind == "conductor":
+        if len(words) < at + 8:
+            raise SceneError("'material' conductor eta R G B k R G B: too few fields")
+        expect_label(words, at, "eta", "material")
+        material.eta = vector(words, at + 1)
+        expect_label(words, at + 4, "k", "material")
+        material.k = vector(words, at + 5)
+        for index in range(3):
+            if not material.eta[index] > 0:
+                raise SceneError(f"eta '{words[at + 1 + index]}' must be above 0")
+            if material.k[index] < 0:
+                raise SceneError(f"k '{words[at + 5 + index]}' is negative")
+        at += 8
+    elif kind == "dielectric":
+        if len(words) < at + 2:
+            raise SceneError("'material' dielectric ior N: too few fields")
+        expect_label(words, at, "ior", "material")
+        material.ior = number(words[at + 1])
+        if not material.ior > 0:
+            raise SceneError(f"ior '{words[at + 1]}' must be above 0")
+        at += 2
+    else:
+        raise SceneError(f"unknown material kind '{kind}' (expected albedo, mirror, "
+                         "conductor or dielectric)")
+    described = f"material '{name}' ({kind})"
+    seen = set()
+    while at < len(words):
+        option = words[at]
+        if option == "emission" and kind != "albedo":
+            raise SceneError(f"only an 'albedo' material may have an emission, not {described}")
+        if option in seen or (option, kind) not in {
+                ("emission", "albedo"), ("reflectance", "mirror"),
+                ("roughness", "conductor"), ("roughness", "dielectric")}:
+            raise SceneError(f"unexpected '{option}' in {described}")
+        seen.add(option)
+        if option == "emission":
+            material.emission = read_non_negative(words, at + 1, "emission")
+            at += 4
+        elif option == "reflectance":
+            material.reflectance = read_fraction(words, at + 1, "reflectance")
+            at += 4
+        else:
+            if at + 1 >= len(words):
+                raise SceneError("roughness needs a number, the GGX alpha")
+            material.roughness = number(words[at + 1])
+            if material.roughness < 0:
+                raise SceneError(f"roughness '{words[at + 1]}' is negative")
+            at += 2
+    return material
 
 
 def find_mesh(written: str, scene_path: Path, mesh_folders) -> Path:

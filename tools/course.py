@@ -337,7 +337,8 @@ def fuzz_seeds(target: str) -> list[Path]:
     if target == "fuzz_obj_loader":
         return sorted((ROOT / "tests" / "data" / "obj").rglob("*.obj"))
     if target == "fuzz_scene_file":
-        return sorted((ROOT / "assets" / "scenes").glob("*.scene"))
+        return sorted((ROOT / "assets" / "scenes").glob("*.scene")) + \
+            [ROOT / "tests" / "data" / "scenes" / "materials.scene"]
     return []
 
 

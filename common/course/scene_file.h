@@ -15,6 +15,18 @@
 //       `emission`, also a light giving out that radiance (W / m^2 / sr, per channel).
 //       NAME: letters, digits, '_' and '-'; each name once. A material may be used
 //       before the line that defines it.
+//   material NAME mirror [reflectance R G B]
+//       ideal specular reflection of a fraction R G B in [0, 1] (default 1 1 1):
+//       Mitsuba 3's `conductor` with `material none` and `specular_reflectance`
+//   material NAME conductor eta R G B k R G B [roughness A]
+//       a metal: the Fresnel equations with the complex index eta + i k per channel
+//       (eta > 0, k >= 0); A, the GGX alpha (0 or absent: smooth). Mitsuba's
+//       `conductor`, or `roughconductor` with `distribution ggx`, `sample_visible`.
+//   material NAME dielectric ior N [roughness A]
+//       a glass-like boundary, index N > 0 inside and 1 outside: Mitsuba's `dielectric`
+//       (int_ior N, ext_ior 1), or `roughdielectric` with GGX alpha A.
+//   Only an `albedo` material may have an emission. A program that renders only some
+//   kinds of material says which it met (loadSceneFile's `accepted`).
 //   sphere CX CY CZ RADIUS MATERIAL [name NAME]
 //   quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
 //       the parallelogram with corners O, O + E, O + E + F, O + F (two edges from a
@@ -54,10 +66,18 @@ struct SceneCamera {
     float sensorWidth = 0.036f;  // metres
 };
 
+enum class MaterialKind { Diffuse, Mirror, Conductor, Dielectric };
+
 struct SceneMaterial {
     std::string name;
-    glm::vec3 albedo{0.0f};    // reflected fraction per channel, in [0, 1]
-    glm::vec3 emission{0.0f};  // emitted radiance; zero for a surface that only reflects
+    MaterialKind kind = MaterialKind::Diffuse;
+    glm::vec3 albedo{0.0f};       // diffuse: reflected fraction per channel, in [0, 1]
+    glm::vec3 emission{0.0f};     // diffuse: emitted radiance; zero for one that only reflects
+    glm::vec3 reflectance{1.0f};  // mirror: reflected fraction per channel, in [0, 1]
+    glm::vec3 eta{1.0f}, k{0.0f};  // conductor: the complex index of refraction per channel
+    float ior = 1.5f;             // dielectric: the index inside (outside: 1)
+    float roughness = 0.0f;       // conductor, dielectric: GGX alpha; 0 is smooth
+    size_t line = 0;              // where it is defined, for messages
 
     bool emits() const { return emission.r > 0.0f || emission.g > 0.0f || emission.b > 0.0f; }
 };
@@ -110,15 +130,24 @@ struct SceneFile {
 };
 // --8<-- [end:types]
 
+// Which materials a program renders: a material of another kind is exit code 3 at
+// its line, rather than a picture that silently shows it as something else.
+enum class AcceptedMaterials { DiffuseOnly, All };
+
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
 // scene file's own folder.
 SceneFile loadSceneFile(const std::string& path,
-                        const std::vector<std::string>& meshFolders = {});
+                        const std::vector<std::string>& meshFolders = {},
+                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly);
 
 // The same, from text already in memory: shownPath names it in messages and its folder
 // is where mesh paths are looked up first.
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
-                         const std::vector<std::string>& meshFolders = {});
+                         const std::vector<std::string>& meshFolders = {},
+                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly);
+
+// "albedo", "mirror", "conductor" or "dielectric": the word the format uses.
+const char* materialKindWord(MaterialKind kind);
 
 // The scene as text in the format above, with every number written so that it reads
 // back as the same float: parseSceneText(formatSceneFile(s)) gives s again.

@@ -22,6 +22,8 @@ using course::ExitCode;
 using course::formatSceneFile;
 using course::loadSceneFile;
 using course::parseSceneText;
+using course::AcceptedMaterials;
+using course::MaterialKind;
 using course::SceneFile;
 using course::SceneMesh;
 using course::SceneQuad;
@@ -51,10 +53,11 @@ protected:
 
     // The message loadSceneFile throws for `text`; fails the test if it loads.
     std::string failure(const std::string& text,
-                        const std::vector<std::string>& meshFolders = {}) const {
+                        const std::vector<std::string>& meshFolders = {},
+                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly) const {
         const fs::path path = write("bad.scene", text);
         try {
-            loadSceneFile(path.string(), meshFolders);
+            loadSceneFile(path.string(), meshFolders, accepted);
             ADD_FAILURE() << "loaded:\n" << text;
         } catch (const course::Failure& error) {
             EXPECT_EQ(error.code(), ExitCode::BadInput) << error.what();
@@ -95,6 +98,12 @@ void expectSameScene(const SceneFile& a, const SceneFile& b) {
         EXPECT_EQ(a.materials[i].name, b.materials[i].name);
         expectSameVector(a.materials[i].albedo, b.materials[i].albedo);
         expectSameVector(a.materials[i].emission, b.materials[i].emission);
+        EXPECT_EQ(a.materials[i].kind, b.materials[i].kind);
+        expectSameVector(a.materials[i].reflectance, b.materials[i].reflectance);
+        expectSameVector(a.materials[i].eta, b.materials[i].eta);
+        expectSameVector(a.materials[i].k, b.materials[i].k);
+        EXPECT_EQ(a.materials[i].ior, b.materials[i].ior);
+        EXPECT_EQ(a.materials[i].roughness, b.materials[i].roughness);
     }
     ASSERT_EQ(a.spheres.size(), b.spheres.size());
     for (size_t i = 0; i < a.spheres.size(); ++i) {
@@ -347,8 +356,10 @@ TEST_F(SceneFileTest, WrongNumberOfFields) {
               at(4, "'triangle' needs 10 fields (AX AY AZ BX BY BZ CX CY CZ MATERIAL), then "
                     "optionally name NAME; got 9"));
     EXPECT_EQ(failure(kValid + "material m albedo 1 1\n"),
-              at(4, "'material' needs 5 fields (NAME albedo R G B) or 9 (... emission R G "
-                    "B), got 4"));
+              at(4, "albedo needs three numbers R G B"));
+    EXPECT_EQ(failure(kValid + "material m\n"),
+              at(4, "'material' needs a name and a kind (NAME albedo R G B, NAME mirror, "
+                    "NAME conductor eta R G B k R G B, NAME dielectric ior N)"));
     EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 1\n"),
               at(1, "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor "
                     "S), got 14"));
@@ -363,9 +374,10 @@ TEST_F(SceneFileTest, WrongLabels) {
     EXPECT_EQ(failure("camera eye 0 0 0 at 0 0 -1 up 0 1 0 focal 1 sensor 1\n"),
               at(1, "'camera' expects 'look' here, got 'at'"));
     EXPECT_EQ(failure(kValid + "material m colour 1 1 1\n"),
-              at(4, "'material' expects 'albedo' here, got 'colour'"));
+              at(4, "unknown material kind 'colour' (expected albedo, mirror, conductor or "
+                    "dielectric)"));
     EXPECT_EQ(failure(kValid + "material m albedo 1 1 1 glow 1 1 1\n"),
-              at(4, "'material' expects 'emission' here, got 'glow'"));
+              at(4, "unexpected 'glow' in material 'm' (albedo)"));
 }
 
 TEST_F(SceneFileTest, BadNumbers) {
@@ -404,6 +416,76 @@ TEST_F(SceneFileTest, BadMaterialValues) {
     EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 lamp name a.b\n"),
               at(4, "shape name 'a.b': use letters, digits, '_' and '-', starting with a "
                     "letter or '_'"));
+}
+
+// The kinds of material: the words, their defaults, and the writer writing them back.
+TEST_F(SceneFileTest, MaterialKinds) {
+    const std::string text = kValid +
+                             "material m mirror\n"
+                             "material r mirror reflectance 0.9 0.8 0.7\n"
+                             "material gold conductor eta 0.2 0.4 1.4 k 3.6 2.4 1.8\n"
+                             "material brushed conductor eta 0.2 0.4 1.4 k 3.6 2.4 1.8 "
+                             "roughness 0.2\n"
+                             "material glass dielectric ior 1.5\n"
+                             "material frosted dielectric ior 1.33 roughness 0.1\n";
+    const std::string path = (folder_ / "kinds.scene").string();
+    const SceneFile scene = parseSceneText(text, path, {}, AcceptedMaterials::All);
+    ASSERT_EQ(scene.materials.size(), 7u);
+    const auto& m = scene.materials;
+    EXPECT_EQ(m[0].kind, MaterialKind::Diffuse);
+    EXPECT_EQ(m[1].kind, MaterialKind::Mirror);
+    expectSameVector(m[1].reflectance, glm::vec3(1.0f));
+    expectSameVector(m[2].reflectance, glm::vec3(0.9f, 0.8f, 0.7f));
+    EXPECT_EQ(m[3].kind, MaterialKind::Conductor);
+    expectSameVector(m[3].eta, glm::vec3(0.2f, 0.4f, 1.4f));
+    expectSameVector(m[3].k, glm::vec3(3.6f, 2.4f, 1.8f));
+    EXPECT_EQ(m[3].roughness, 0.0f);
+    EXPECT_EQ(m[4].roughness, 0.2f);
+    EXPECT_EQ(m[5].kind, MaterialKind::Dielectric);
+    EXPECT_EQ(m[5].ior, 1.5f);
+    EXPECT_EQ(m[6].ior, 1.33f);
+    EXPECT_EQ(m[6].roughness, 0.1f);
+    EXPECT_EQ(m[6].line, 9u);
+    const SceneFile again =
+        parseSceneText(formatSceneFile(scene), path, {}, AcceptedMaterials::All);
+    expectSameScene(scene, again);
+}
+
+TEST_F(SceneFileTest, MaterialMistakes) {
+    auto all = [this](const std::string& line) {
+        return failure(kValid + line + "\n", {}, AcceptedMaterials::All);
+    };
+    EXPECT_EQ(all("material m metal"),
+              at(4, "unknown material kind 'metal' (expected albedo, mirror, conductor or "
+                    "dielectric)"));
+    EXPECT_EQ(all("material m conductor eta 1 1 1 k 1 1 1 roughness -0.1"),
+              at(4, "roughness '-0.1' is negative"));
+    EXPECT_EQ(all("material m conductor eta 1 0 1 k 1 1 1"), at(4, "eta '0' must be above 0"));
+    EXPECT_EQ(all("material m conductor eta 1 1 1 k -1 0 0"), at(4, "k '-1' is negative"));
+    EXPECT_EQ(all("material m conductor eta 1 1 1"),
+              at(4, "'material' conductor eta R G B k R G B: too few fields"));
+    EXPECT_EQ(all("material m dielectric ior 0"), at(4, "ior '0' must be above 0"));
+    EXPECT_EQ(all("material m dielectric ior -1.5"), at(4, "ior '-1.5' must be above 0"));
+    EXPECT_EQ(all("material m mirror emission 1 1 1"),
+              at(4, "only an 'albedo' material may have an emission, not material 'm' "
+                    "(mirror)"));
+    EXPECT_EQ(all("material m dielectric ior 1.5 shiny"),
+              at(4, "unexpected 'shiny' in material 'm' (dielectric)"));
+    EXPECT_EQ(all("material m mirror roughness 0.1"),
+              at(4, "unexpected 'roughness' in material 'm' (mirror)"));
+    EXPECT_EQ(all("material m albedo 1 1 1 emission 1 1 1 emission 2 2 2"),
+              at(4, "unexpected 'emission' in material 'm' (albedo)"));
+    EXPECT_EQ(all("material m mirror reflectance 2 1 1"),
+              at(4, "reflectance '2' is outside [0, 1]: a surface cannot reflect more light "
+                    "than reaches it"));
+    EXPECT_EQ(all("material m dielectric ior 1.5 roughness"),
+              at(4, "roughness needs a number, the GGX alpha"));
+}
+
+TEST_F(SceneFileTest, ProgramsThatRenderOnlyDiffuseSayWhichMaterialTheyMet) {
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 glass\nmaterial glass dielectric ior 1.5\n"),
+              at(5, "material 'glass' is a dielectric: this program renders only diffuse "
+                    "materials ('albedo R G B')"));
 }
 
 TEST_F(SceneFileTest, NonPositiveRadius) {

@@ -162,6 +162,12 @@ def test_gems_render(tmp_path):
      "material m albedo 1.5 0.5 0.5 emission 1 1 1\n", 2, "albedo"),
     ("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.025\n"
      "material m albedo 0.5 0.5 0.5\nsphere 0 0 -2 1 m\nteapot 1 2 3\n", 4, "teapot"),
+    # A kind of material this chapter does not render: refused at its line, not drawn
+    # as something else.
+    ("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.025\n"
+     "material m albedo 0.5 0.5 0.5 emission 1 1 1\nsphere 0 0 -2 1 m\n"
+     "material glass dielectric ior 1.5\n", 4,
+     "material 'glass' is a dielectric: this program renders only diffuse materials"),
 ])
 def test_bad_scene_file_is_exit_3_with_file_and_line(tmp_path, text, line, message):
     scene = tmp_path / "bad.scene"
