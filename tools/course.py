@@ -686,7 +686,7 @@ def main():
                       help="the student edition, to publish: the starters' code instead of "
                       "the solutions, no answer notes (into book/site-student)")
 
-    bench = verbs.add_parser("bench", help="chapter 10 against Mitsuba 3 on the Cornell box; "
+    bench = verbs.add_parser("bench", help="chapter 11 against Mitsuba 3 on the Cornell box; "
                              "chapter 12's BVH against brute force, 552 to 1M triangles")
     bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
                        default="all", help="which benchmark (default: mitsuba and bvh; "
