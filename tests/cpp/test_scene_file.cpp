@@ -296,7 +296,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
                 write("generated/" + meshPath, "v 0 0 0\n");
         }
         const SceneFile scene = loadSceneFile(entry.path().string(), {generated.string()});
-        // One light each, but the grader's scene of two (chapter 10's choice of light).
+        // One light each, but the grader's scene of two (chapter 11's choice of light).
         EXPECT_EQ(scene.emitterCount(),
                   entry.path().stem() == "cornell_two_lights" ? 2u : 1u);
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,

@@ -35,7 +35,7 @@ def test_shipped_scenes_load(mesh_folder):
     built = ROOT / "build" / "assets"
     for name in names:
         scene = scene_io.load_scene(SCENES / f"{name}.scene", [mesh_folder, built])
-        # One light each, but the grader's scene of two (chapter 10's choice of light).
+        # One light each, but the grader's scene of two (chapter 11's choice of light).
         assert len(scene.emitters()) == (2 if name == "cornell_two_lights" else 1), name
         assert scene.camera.horizontal_fov_degrees() == pytest.approx(39.3077, abs=1e-4)
 
