@@ -60,6 +60,9 @@ TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
 # Chapter 12's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
+# The appendix's gems test every triangle for every ray in a fragment shader: its
+# references take fewer samples (their noise still a sixteenth of the submission's mean).
+GEMS_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
 # Chapter 04's three front spheres in front of the big one, close up with a long lens:
 # where the nearest hit matters, filling the frame.
 OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
@@ -188,5 +191,19 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("gems, nearest hits and traversal work", 2,
                   ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
                   "traversal", visibility="after_due_date"),
+    ],
+    # Appendix A1: the path tracer of chapter 11 on OpenGL 3.3. What a student writes is
+    # what GL 3.3 changes: reading the quads and the triangles out of the buffer
+    # texture. Graded by statistics, as chapter 11. Every scene has quads (the room);
+    # the gems' two tests carry half the points, so that a wrong triangle loses half.
+    "A1": [
+        GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("gems, direct light", 3, [*TINY, "--scene", "cornell_gems", "--direct"],
+                  "statistical", sampling=GEMS_SAMPLING),
+        GradeTest("gems, global illumination", 2, [*TINY, "--scene", "cornell_gems"],
+                  "statistical", sampling=GEMS_SAMPLING),
+        GradeTest("two lights, global illumination", 2.5, [*TINY, *TWO_LIGHTS],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
 }

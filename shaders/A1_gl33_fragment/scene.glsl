@@ -44,16 +44,23 @@ Sphere sphereAt(uint i) {
                   emitterOf(indices.y));
 }
 Quad quadAt(uint i) {
+    // BEGIN SOLUTION quad i's four texels: origin, edge1, edge2, then its indices
     uint first = firstQuadTexel + i * uint(QUAD_TEXELS);
+    vec3 origin = texel(first).xyz, edge1 = texel(first + 1u).xyz;
+    vec3 edge2 = texel(first + 2u).xyz;
     vec4 indices = texel(first + 3u);
-    return Quad(texel(first).xyz, texel(first + 1u).xyz, texel(first + 2u).xyz,
-                materialOf(indices), emitterOf(indices.y));
+    return Quad(origin, edge1, edge2, materialOf(indices), emitterOf(indices.y));
+    // STUB: return Quad(vec3(0.0), vec3(0.0), vec3(0.0), 0u, NO_EMITTER);
+    // END SOLUTION
 }
 Triangle triangleAt(uint i) {
+    // BEGIN SOLUTION triangle i's texels: corners and material, then normals and emitter
     uint first = firstTriangleTexel + i * uint(TRIANGLE_TEXELS);
     vec4 corners = texel(first), normals = texel(first + 1u);
     return Triangle(uvec3(corners.xyz), uint(corners.w), uvec3(normals.xyz),
                     emitterOf(normals.w));
+    // STUB: return Triangle(uvec3(0u), 0u, uvec3(0u), NO_EMITTER);
+    // END SOLUTION
 }
 // Chapter 11's positions[i] and normals[i]: the triangles' corners and their normals.
 vec4 positionAt(uint i) { return texel(firstPositionTexel + i); }

@@ -284,3 +284,40 @@ CHAPTER_12 = [
 ]
 
 CATALOGUE["12"] = CHAPTER_12
+
+
+# ---------------------------------------------------------------- appendix A1
+
+G = "A1_gl33_fragment"
+QUAD_READ = ("    return Quad(origin, edge1, edge2, materialOf(indices), "
+             "emitterOf(indices.y));\n")
+TRIANGLE_READ = ("    vec4 corners = texel(first), normals = texel(first + 1u);\n")
+
+CHAPTER_A1 = [
+    Variant(G, "quad's indices texel counted back from the end of its run", True, (
+        Edit("shaders/scene.glsl", "    vec4 indices = texel(first + 3u);\n",
+             "    vec4 indices = texel(first + uint(QUAD_TEXELS) - 1u);\n"),)),
+    Variant(G, "triangle's two texels fetched the other way round", True, (
+        Edit("shaders/scene.glsl", TRIANGLE_READ,
+             "    vec4 normals = texel(first + 1u);\n    vec4 corners = texel(first);\n"),)),
+    Variant(G, "emitter indices rounded to the nearest whole number", True, (
+        Edit("shaders/scene.glsl",
+             "uint emitterOf(float index) { return index < 0.0 ? NO_EMITTER : uint(index); }",
+             "uint emitterOf(float index) {\n"
+             "    return index < -0.5 ? NO_EMITTER : uint(index + 0.5);\n}"),)),
+
+    Variant(G, "quad's two edges swapped (its front turned away)", False, (
+        Edit("shaders/scene.glsl", QUAD_READ,
+             QUAD_READ.replace("origin, edge1, edge2", "origin, edge2, edge1")),)),
+    Variant(G, "quad's indices read from its first texel (the origin's)", False, (
+        Edit("shaders/scene.glsl", "    vec4 indices = texel(first + 3u);\n",
+             "    vec4 indices = texel(first);\n"),)),
+    Variant(G, "quads three texels apart instead of four", False, (
+        Edit("shaders/scene.glsl", "    uint first = firstQuadTexel + i * uint(QUAD_TEXELS);\n",
+             "    uint first = firstQuadTexel + i * uint(QUAD_TEXELS - 1);\n"),)),
+    Variant(G, "triangle's corner and normal texels swapped", False, (
+        Edit("shaders/scene.glsl", TRIANGLE_READ,
+             "    vec4 corners = texel(first + 1u), normals = texel(first);\n"),)),
+]
+
+CATALOGUE["A1"] = CHAPTER_A1

@@ -103,11 +103,16 @@ def test_release_verb_writes_a_starter(tmp_path):
 
 
 def test_release_refuses_a_chapter_without_exercises(tmp_path):
-    # The appendix has no SOLUTION blocks: a starter would be the solution itself.
-    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "release", "A1",
+    # Every chapter has SOLUTION blocks now (the appendix's: reading shapes out of its
+    # buffer texture); a folder without any would give a starter that is the solution.
+    assert classroom.has_exercises(ROOT, "A1_gl33_fragment")
+    for top in ("chapters", "shaders"):
+        (tmp_path / top / "99_plain").mkdir(parents=True)
+    (tmp_path / "chapters" / "99_plain" / "main.cpp").write_text("int main() {}\n")
+    assert not classroom.has_exercises(tmp_path, "99_plain")
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "release", "99",
                              "--out", str(tmp_path / "s")], capture_output=True, text=True)
-    assert result.returncode == 2
-    assert "A1_gl33_fragment has no SOLUTION blocks" in result.stderr
+    assert result.returncode == 2 and "no chapter '99'" in result.stderr
     assert not (tmp_path / "s").exists()
 
 

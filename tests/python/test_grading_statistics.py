@@ -261,7 +261,7 @@ def test_solution_cost_view_decodes_to_whole_steps(tmp_path):
 # ---------------------------------------------------------------- the catalogues
 
 CATALOGUES = {"09": "09_random_numbers", "10": "10_path_tracing", "11": "11_light_sampling",
-              "12": "12_bvh"}
+              "12": "12_bvh", "A1": "A1_gl33_fragment"}
 VARIANTS = [v for number in CATALOGUES for v in grading_variants.CATALOGUE[number]]
 
 
