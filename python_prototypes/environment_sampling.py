@@ -25,14 +25,16 @@ row's step places the point inside the pixel vertically; u2 does the same within
 
 import argparse
 import math
-import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from chi_square import chi_square_p_value, pool_small_cells  # noqa: E402
+from figure_file import save_figure_file  # noqa: E402
 import sky  # noqa: E402
 
 UP = np.array([0.0, 1.0, 0.0])  # the map's zenith, v = 0
@@ -196,70 +198,16 @@ def mean_and_standard_error(samples):
     return samples.mean(axis=0), samples.std(axis=0, ddof=1) / math.sqrt(len(samples))
 
 
-def regularized_upper_gamma(a, x):
-    """Q(a, x) = Γ(a, x) / Γ(a): a series for P = 1 - Q when x < a + 1, else a
-    continued fraction for Q (modified Lentz), as in Numerical Recipes (§6.2)."""
-    if a <= 0:
-        raise ValueError("a must be positive")
-    if x <= 0:
-        return 1.0
-    log_prefactor = -x + a * math.log(x) - math.lgamma(a)
-    if x < a + 1.0:
-        term = total = 1.0 / a
-        n = 0
-        while abs(term) > abs(total) * 1e-16 and n < 100_000:
-            n += 1
-            term *= x / (a + n)
-            total += term
-        return max(0.0, 1.0 - total * math.exp(log_prefactor))
-    tiny = 1e-300
-    b = x + 1.0 - a
-    c = 1.0 / tiny
-    d = 1.0 / b
-    h = d
-    for i in range(1, 100_000):
-        an = -i * (i - a)
-        b += 2.0
-        d = an * d + b
-        d = tiny if abs(d) < tiny else d
-        c = b + an / c
-        c = tiny if abs(c) < tiny else c
-        d = 1.0 / d
-        delta = d * c
-        h *= delta
-        if abs(delta - 1.0) < 1e-16:
-            break
-    return math.exp(log_prefactor) * h
-
-
-def chi_square_p_value(statistic, degrees_of_freedom):
-    """P(χ² >= statistic) for a chi-square variable: Q(dof / 2, statistic / 2)."""
-    if not math.isfinite(statistic):
-        return 0.0
-    return regularized_upper_gamma(degrees_of_freedom / 2.0, statistic / 2.0)
-
-
 def chi_square_test(observed, expected, min_expected=5.0):
-    """Pearson's test of counts against expected counts (same total). Bins expecting
-    fewer than min_expected are pooled into one (the χ² approximation needs a few per
-    bin), and that one, if still too small, into the smallest other bin; so samples
-    where the pdf says none can be count against the sampler, never divide by zero.
-    Returns (statistic, degrees of freedom, p-value)."""
-    observed = np.asarray(observed, dtype=np.float64).ravel()
-    expected = np.asarray(expected, dtype=np.float64).ravel()
-    small = expected < min_expected
-    bins_observed = np.append(observed[~small], observed[small].sum())
-    bins_expected = np.append(expected[~small], expected[small].sum())
-    if bins_expected[-1] < min_expected:  # too few even pooled: add it to the smallest
-        smallest = np.argmin(bins_expected[:-1])
-        bins_observed[smallest] += bins_observed[-1]
-        bins_expected[smallest] += bins_expected[-1]
-        bins_observed, bins_expected = bins_observed[:-1], bins_expected[:-1]
-    if np.any((bins_expected <= 0) & (bins_observed > 0)):  # all expected counts 0
-        return math.inf, len(bins_expected) - 1, 0.0
-    keep = bins_expected > 0
-    statistic = float(np.sum((bins_observed[keep] - bins_expected[keep]) ** 2
-                             / bins_expected[keep]))
+    """Pearson's test of counts against expected counts (same total), bins expecting
+    fewer than min_expected pooled as chi_square.py pools them. Samples where the pdf
+    says none count against the sampler. Returns (statistic, dof, p-value)."""
+    observed, expected = pool_small_cells(np.ravel(observed).astype(np.float64),
+                                          np.ravel(expected).astype(np.float64), min_expected)
+    if np.any((expected <= 0) & (observed > 0)):  # samples where none were expected
+        return math.inf, len(expected) - 1, 0.0
+    keep = expected > 0
+    statistic = float(np.sum((observed[keep] - expected[keep]) ** 2 / expected[keep]))
     dof = int(keep.sum()) - 1
     if dof < 1:  # one bin: the totals agree by construction, nothing to test
         return statistic, 0, 1.0
@@ -353,11 +301,7 @@ def save_figure(path, image, seed):
     draw_samples_on_map(figure.add_subplot(grid[0, :]), sampler, rng, 2000)
     draw_row_histogram(figure.add_subplot(grid[1, 0]), sampler, wrong, rng, 200_000)
     draw_ratio(figure.add_subplot(grid[1, 1]), sampler, wrong, rng, 1_000_000)
-    figure.tight_layout()
-    partial = f"{path}.partial.png"
-    figure.savefig(partial, format="png")
-    plt.close(figure)
-    os.replace(partial, path)
+    save_figure_file(figure, path)
 
 
 def main(argv=None):

@@ -210,29 +210,7 @@ def render_mitsuba(scene: scene_io.Scene, width: int, height: int, spp: int, bou
 # Files
 # ---------------------------------------------------------------------------------------
 
-def write_pfm(path, image: np.ndarray) -> None:
-    """Linear RGB PFM (little-endian, bottom row first), written under a temporary name
-    and renamed, so no half-written file is ever left behind."""
-    path = Path(path)
-    height, width = image.shape[:2]
-    rows = np.ascontiguousarray(image[::-1, :, :3], dtype="<f4")
-    partial = path.with_name(path.name + ".partial")
-    with open(partial, "wb") as file:
-        file.write(f"PF\n{width} {height}\n-1.0\n".encode("ascii"))
-        file.write(rows.tobytes())
-    os.replace(partial, path)
-
-
-def read_pfm(path) -> np.ndarray:
-    """An RGB PFM as float64 (height, width, 3), row 0 at the top."""
-    data = Path(path).read_bytes()
-    header = data.split(b"\n", 3)
-    if header[0] != b"PF":
-        raise ValueError(f"{path}: not an RGB PFM")
-    width, height = map(int, header[1].split())
-    dtype = "<f4" if float(header[2]) < 0 else ">f4"
-    pixels = np.frombuffer(header[3], dtype=dtype, count=width * height * 3)
-    return pixels.reshape(height, width, 3)[::-1].astype(np.float64)
+from pfm import read_pfm, write_pfm  # noqa: E402,F401  (others read PFMs through here)
 
 
 # ---------------------------------------------------------------------------------------

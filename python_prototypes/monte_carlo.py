@@ -18,10 +18,12 @@ f(x)/p(x). A p shaped like f makes σ small: importance sampling. Three examples
 """
 
 import argparse
-import os
 from dataclasses import dataclass
 
 import numpy as np
+
+from figure_file import save_figure_file
+
 
 SINE_INTEGRAL = 2.0  # ∫₀^π sin x dx
 SKY_RADIANCE = 1.0  # L of the constant sky; its irradiance is π L
@@ -347,11 +349,7 @@ def save_figure(which, path, seed):
         draw_hemisphere(figure, rng)
     else:
         draw_light(figure.add_subplot(), rng)
-    figure.tight_layout()
-    partial = f"{path}.partial.png"
-    figure.savefig(partial, format="png")
-    plt.close(figure)
-    os.replace(partial, path)
+    save_figure_file(figure, path)
 
 
 def main(argv=None):

@@ -63,13 +63,16 @@ below the horizon.
 
 import argparse
 import math
-import os
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from figure_file import save_figure_file
+from pfm import read_pfm, write_pfm  # noqa: F401  (the maps are PFM files)
+
 
 SUN_ANGULAR_DIAMETER_DEGREES = 0.53
 SUN_TEMPERATURE_KELVIN = 5778.0
@@ -476,31 +479,6 @@ def spots_irradiance(spots=SPOTS, background=SPOTS_BACKGROUND):
 # PFM files (mitsuba_reference.py's conventions: little-endian, bottom row first)
 # ---------------------------------------------------------------------------------------
 
-def write_pfm(path, image):
-    """Linear RGB PFM: header "PF", width height, -1.0 (little-endian), then the rows
-    from the bottom of the image up, as the format says. Written under a temporary name
-    and renamed, so that no reader ever sees half a file."""
-    path = Path(path)
-    height, width = image.shape[:2]
-    rows = np.ascontiguousarray(np.asarray(image)[::-1, :, :3], dtype="<f4")
-    partial = path.with_name(path.name + ".partial")
-    with open(partial, "wb") as file:
-        file.write(f"PF\n{width} {height}\n-1.0\n".encode("ascii"))
-        file.write(rows.tobytes())
-    os.replace(partial, path)
-
-
-def read_pfm(path):
-    """An RGB PFM as float32 (height, width, 3), row 0 at the top."""
-    data = Path(path).read_bytes()
-    header = data.split(b"\n", 3)
-    if header[0] != b"PF":
-        raise ValueError(f"{path}: not an RGB PFM")
-    width, height = map(int, header[1].split())
-    dtype = "<f4" if float(header[2]) < 0 else ">f4"
-    pixels = np.frombuffer(header[3], dtype=dtype, count=width * height * 3)
-    return pixels.reshape(height, width, 3)[::-1].astype(np.float32)
-
 
 # ---------------------------------------------------------------------------------------
 # Figure
@@ -586,11 +564,7 @@ def save_figure(path, image, title, exposure, marks=(), sun_azimuth=None):
     draw_map(figure.add_subplot(rows, 1, 1), image, title, exposure, marks)
     if sun_azimuth is not None:
         draw_profile(figure.add_subplot(rows, 1, 2), image, sun_azimuth)
-    figure.tight_layout()
-    partial = f"{path}.partial.png"
-    figure.savefig(partial, format="png")
-    plt.close(figure)
-    os.replace(partial, path)
+    save_figure_file(figure, path)
 
 
 # ---------------------------------------------------------------------------------------

@@ -41,14 +41,15 @@ is x = up x forward), so its aperture sample (1 - u1, u2) gives our lens point f
 
 import argparse
 import math
-import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from figure_file import save_figure_file  # noqa: E402
 import camera_rays  # noqa: E402
 
 
@@ -258,11 +259,7 @@ def save_figure(path, camera, width, f_numbers, seed):
     figure = plt.figure(figsize=(8, 5.2), dpi=100)
     draw_circle_of_confusion(figure.add_subplot(), camera, width, f_numbers,
                              np.random.default_rng(seed))
-    figure.tight_layout()
-    partial = f"{path}.partial.png"
-    figure.savefig(partial, format="png")
-    plt.close(figure)
-    os.replace(partial, path)
+    save_figure_file(figure, path)
 
 
 def main(argv=None):
