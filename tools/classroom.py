@@ -266,7 +266,9 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
                                               root / "tests" / "python"]):
             copy(str(module.relative_to(root)))
     for prototype in page_prototypes(root, chapter):
-        copy(prototype)
+        copy(prototype)  # and what it imports, so that the student can run it
+        for module in imported_modules(root / prototype, [root / "python_prototypes"]):
+            copy(str(module.relative_to(root)))
 
     # The chapter itself, with the solutions taken out.
     for top in ("chapters", "shaders"):

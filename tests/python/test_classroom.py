@@ -145,3 +145,15 @@ def test_starter_has_a_classroom_workflow(tmp_path):
     starter = classroom.release(ROOT, "02_first_pixels", tmp_path / "s")
     workflow = (starter / ".github" / "workflows" / "classroom.yml").read_text()
     assert "./course test 02" in workflow
+
+
+def test_a_starter_runs_the_prototype_its_page_shows(tmp_path):
+    """Chapter 10's page shows code of python_prototypes/monte_carlo.py: the starter has
+    it, with what it imports, and it runs there."""
+    starter = classroom.release(ROOT, "10_path_tracing", tmp_path / "s")
+    script = starter / "python_prototypes" / "monte_carlo.py"
+    assert script.exists() and (starter / "python_prototypes" / "figure_file.py").exists()
+    result = subprocess.run([sys.executable, str(script), "--figure", str(tmp_path / "mc.png"),
+                             "--which", "light"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "mc.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
