@@ -57,7 +57,10 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         // (where a closed mesh is black) or leak light through an open one: it ends.
         if (dot(direction, hit.geometricNormal) <= 0.0) break;
         // --8<-- [end:shading_normal]
+        // BEGIN SOLUTION the throughput picks up this bounce's f cos / pdf
         throughput *= material.albedo.rgb;
+        // STUB: throughput *= 0.0;
+        // END SOLUTION
         ray = Ray(offsetFromSurface(hit.position, hit.geometricNormal), direction);
     }
     return radiance;
