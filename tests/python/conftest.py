@@ -149,26 +149,32 @@ def copy_shaders(prefix: str, destination: Path) -> Path:
 
 
 def regions_agreeing(a: np.ndarray, b: np.ndarray, scene_file: Path,
-                     sigmas: float = 4.5) -> int:
+                     sigmas: float = 4.5, mesh_folders=(),
+                     most_relative: float | None = None) -> list[str]:
     """Two renders of one scene (linear, same size), compared region by region (the
     pixels that see only one named shape: python_prototypes/mitsuba_reference.py): each
-    region's mean must differ by less than `sigmas` standard errors of the difference.
-    Regions of fewer than 20 pixels have no useful spread and are left out. Returns how
-    many regions were compared, for the caller to check."""
+    region's mean must differ by less than `sigmas` standard errors of the difference,
+    and, with most_relative, the means' brightness (RGB averaged) by less than that
+    fraction of b's. Regions of fewer than 20 pixels have no useful spread and are left
+    out. Returns the regions compared, for the caller to check."""
     import mitsuba_reference
     import scene_io
-    scene = scene_io.load_scene(str(scene_file))
+    scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     masks = mitsuba_reference.region_masks(scene, a.shape[1], a.shape[0])
     means_a = mitsuba_reference.region_means(a, masks)
     means_b = mitsuba_reference.region_means(b, masks)
     errors = mitsuba_reference.region_standard_errors(a, b, masks)
-    compared = 0
+    compared = []
     for region, mask in masks.items():
         if mask.sum() < 20:
             continue
         difference = np.abs(means_a[region] - means_b[region])
-        assert np.all(difference < sigmas * errors[region] + 1e-6), (region, difference)
-        compared += 1
+        assert np.all(difference < sigmas * errors[region] + 1e-6), \
+            (region, means_a[region], means_b[region], errors[region])
+        if most_relative is not None:
+            relative = means_a[region].mean() / means_b[region].mean() - 1
+            assert abs(relative) < most_relative, (region, relative)
+        compared.append(region)
     return compared
 
 

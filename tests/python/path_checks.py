@@ -10,11 +10,12 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import ROOT, read_pfm, run_chapter
+from conftest import ROOT, read_pfm, regions_agreeing, run_chapter
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
@@ -64,27 +65,19 @@ def square_light_expected() -> float:
     return 0.5 * 10.0 * 4 * rectangle_form_factor(0.25, 0.25, 1.0)
 
 
-def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512):
-    """Every region of cornell_spheres (the pixels that see one wall, sphere or the
-    light, at least 20) within 4.5 standard errors of Mitsuba 3's render at `spp`."""
+def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
+                               scene_file: Path = ROOT / "assets" / "scenes" /
+                               "cornell_spheres.scene", mesh_folders=(),
+                               most_relative: float | None = None) -> list[str]:
+    """Every region of the scene (the pixels that see one wall, sphere, mesh or the
+    light, at least 20) within SIGMAS standard errors of Mitsuba 3's render at `spp`,
+    and within most_relative of its brightness if given. Returns the regions compared."""
     pytest.importorskip("mitsuba")
     import mitsuba_reference
     import scene_io
-    scene = scene_io.load_scene(str(ROOT / "assets" / "scenes" / "cornell_spheres.scene"))
+    scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     height, width = ours.shape[:2]
     theirs, _ = mitsuba_reference.render_mitsuba(scene, width, height, spp, 6, seed=0,
                                                  variant="scalar_rgb")
-    theirs = np.asarray(theirs)[..., :3]
-    masks = mitsuba_reference.region_masks(scene, width, height)
-    ours_means = mitsuba_reference.region_means(ours, masks)
-    their_means = mitsuba_reference.region_means(theirs, masks)
-    errors = mitsuba_reference.region_standard_errors(ours, theirs, masks)
-    compared = 0
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        difference = np.abs(ours_means[region] - their_means[region])
-        assert np.all(difference < SIGMAS * errors[region] + 1e-6), \
-            (region, ours_means[region], their_means[region], errors[region])
-        compared += 1
-    assert compared >= 7  # five walls, two spheres
+    return regions_agreeing(ours, np.asarray(theirs)[..., :3], scene_file, SIGMAS,
+                            mesh_folders, most_relative)

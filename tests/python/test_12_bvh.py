@@ -19,6 +19,7 @@ from conftest import ROOT, copy_shaders, loop_limit, read_pfm, run_chapter
 sys.path.insert(0, str(ROOT / "python_prototypes"))
 import camera_rays  # noqa: E402
 import obj_io  # noqa: E402
+import path_checks  # noqa: E402
 import scene_io  # noqa: E402
 import teapot  # noqa: E402
 
@@ -133,22 +134,7 @@ def numpy_first_hits(origin, directions, corners):
     """Distance to the nearest triangle along each ray (inf for none), Moller-Trumbore
     in float64 against every triangle: (rays,) from origin (3,), directions (rays, 3),
     corners (triangles, 3, 3)."""
-    p0 = corners[:, 0]
-    edge1, edge2 = corners[:, 1] - p0, corners[:, 2] - p0
-    to_origin = origin - p0
-    q = np.cross(to_origin, edge1)
-    distances = []
-    for direction in directions:
-        p = np.cross(direction, edge2)
-        determinant = np.einsum("ij,ij->i", edge1, p)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inverse = 1.0 / determinant
-            u = np.einsum("ij,ij->i", to_origin, p) * inverse
-            v = (q @ direction) * inverse
-            t = np.einsum("ij,ij->i", edge2, q) * inverse
-        hit = (np.abs(determinant) > 1e-20) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-        distances.append(t[hit].min() if hit.any() else np.inf)
-    return np.array(distances)
+    return numpy_nearest_triangles(origin, directions, corners)[1]
 
 
 def numpy_room_hits(origin, directions, scene):
@@ -206,9 +192,9 @@ def test_a_million_triangles_against_a_numpy_ray_caster(tmp_path):
     rows, cols = rows.ravel(), cols.ravel()
     origin = np.array(camera.eye, dtype=np.float64)
     sample = directions[rows, cols]
-    expected = np.minimum(numpy_first_hits(origin, sample, corners),
-                          numpy_room_hits(origin, sample, scene))
-    on_teapot = numpy_first_hits(origin, sample, corners) < np.inf
+    teapot_hits = numpy_first_hits(origin, sample, corners)
+    expected = np.minimum(teapot_hits, numpy_room_hits(origin, sample, scene))
+    on_teapot = teapot_hits < np.inf
     assert on_teapot.sum() >= 30, "the sample must see the teapot"
     found = gpu[rows, cols]
     agree = np.abs(found - expected) <= 1e-4 * expected
@@ -285,37 +271,24 @@ def test_smooth_teapot_agrees_with_mitsuba(tmp_path):
     """The teapot's vertex normals, shaded as Mitsuba's `obj` shades them: each region of
     cornell_teapot (the walls, the light, the teapot) within 2% of Mitsuba 3's mean,
     and within 4.5 standard errors of the two renders' noise."""
-    pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    scene = scene_io.load_scene(str(SCENES / "cornell_teapot.scene"),
-                                [str(ROOT / "build" / "assets")])
     size = 48
     ours = render(tmp_path, "12", "teapot", "--width", size, "--height", size,
                   "--spp", 1024, "--depth", 6)
-    theirs, _ = mitsuba_reference.render_mitsuba(scene, size, size, 1024, 6, seed=0,
-                                                 variant="scalar_rgb")
-    theirs = np.asarray(theirs)[..., :3]
-    masks = mitsuba_reference.region_masks(scene, size, size)
-    mine = mitsuba_reference.region_means(ours, masks)
-    reference = mitsuba_reference.region_means(theirs, masks)
-    errors = mitsuba_reference.region_standard_errors(ours, theirs, masks)
-    compared = []
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        a, b, e = mine[region].mean(), reference[region].mean(), errors[region].mean()
-        assert abs(a / b - 1) < 0.02 and abs(a - b) < 4.5 * e + 1e-6, (region, a, b, e)
-        compared.append(region)
+    compared = path_checks.assert_agrees_with_mitsuba(
+        ours, 1024, SCENES / "cornell_teapot.scene", [ROOT / "build" / "assets"],
+        most_relative=0.02)
     assert "teapot" in compared and len(compared) >= 5, compared
 
 
 def numpy_nearest_triangles(origin, directions, corners):
-    """For each ray: the nearest triangle (-1 for none) and its barycentric (u, v)."""
+    """For each ray (from origin (3,), directions (rays, 3)): the nearest of corners'
+    triangles (triangles, 3, 3) by Moller-Trumbore in float64, as (its index, -1 for
+    none; its distance, inf for none; its barycentric (u, v))."""
     p0 = corners[:, 0]
     edge1, edge2 = corners[:, 1] - p0, corners[:, 2] - p0
     to_origin = origin - p0
     q = np.cross(to_origin, edge1)
-    found, uvs = [], []
+    found, distances, uvs = [], [], []
     for direction in directions:
         p = np.cross(direction, edge2)
         determinant = np.einsum("ij,ij->i", edge1, p)
@@ -326,11 +299,11 @@ def numpy_nearest_triangles(origin, directions, corners):
             t = np.einsum("ij,ij->i", edge2, q) * inverse
         hit = (np.abs(determinant) > 1e-20) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
         if not hit.any():
-            found.append(-1), uvs.append((0.0, 0.0))
+            found.append(-1), distances.append(np.inf), uvs.append((0.0, 0.0))
             continue
         index = np.flatnonzero(hit)[np.argmin(t[hit])]
-        found.append(index), uvs.append((u[index], v[index]))
-    return np.array(found), np.array(uvs)
+        found.append(index), distances.append(t[index]), uvs.append((u[index], v[index]))
+    return np.array(found), np.array(distances), np.array(uvs)
 
 
 def test_the_teapot_is_shaded_with_its_blended_normals(tmp_path):
@@ -354,8 +327,8 @@ def test_the_teapot_is_shaded_with_its_blended_normals(tmp_path):
                                                    camera.sensor_width)
     rows, cols = np.meshgrid(np.arange(16, 40, 2), np.arange(8, 40, 2), indexing="ij")
     rows, cols = rows.ravel(), cols.ravel()
-    hit, uv = numpy_nearest_triangles(np.array(camera.eye, dtype=np.float64),
-                                      directions[rows, cols], corners)
+    hit, _, uv = numpy_nearest_triangles(np.array(camera.eye, dtype=np.float64),
+                                         directions[rows, cols], corners)
     on = hit >= 0
     assert on.sum() >= 60, "the sample must see the teapot"
     u, v = uv[on, 0:1], uv[on, 1:2]
