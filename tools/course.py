@@ -480,11 +480,12 @@ def render_figures(rows, out: Path, draft: bool = False):
 def render_book_figures(draft: bool = False):
     """Every picture in the book comes from the real programs, listed in the manifests."""
     render_figures(figure_rows(), GENERATED, draft)
-    for a, b in book_diff_pairs():
-        lines = [l for _, d in checkpoint_diff(a, b) for l in d]
+    diffs = {(a, b): checkpoint_diff(a, b) for a, b in book_diff_pairs()}
+    for (a, b), files in diffs.items():
+        lines = [l for _, d in files for l in d]
         (GENERATED / f"diff_{a[:2]}_{b[:2]}.diff").write_text("\n".join(lines) + "\n")
     import editions
-    (GENERATED / "diff_sizes.md").write_text(editions.diff_size_table(ROOT, book_diff_pairs()))
+    (GENERATED / "diff_sizes.md").write_text(editions.diff_size_table(diffs))
 
 
 def book_diff_pairs() -> list[tuple[str, str]]:

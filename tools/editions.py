@@ -243,16 +243,16 @@ def changed_lines(diffs: list[tuple[str, list[str]]]) -> tuple[int, int]:
     return added, removed
 
 
-def diff_size_table(root: Path, pairs: list[tuple[str, str]]) -> str:
-    """The book index's table: each checkpoint diff's files and changed lines."""
+def diff_size_table(diffs: dict[tuple[str, str], list[tuple[str, list[str]]]]) -> str:
+    """The book index's table: each checkpoint diff's files and changed lines, from the
+    diffs the book shows ((from, to) -> checkpoint_diff)."""
     lines = ["| checkpoint | files | added | removed | changed |",
              "| --- | ---: | ---: | ---: | ---: |"]
-    for a, b in pairs:
-        diffs = checkpoint_diff(checkpoint_texts(root, a), checkpoint_texts(root, b), a, b)
-        added, removed = changed_lines(diffs)
+    for (a, b), files in diffs.items():
+        added, removed = changed_lines(files)
         total = added + removed
         mark = "" if total <= DIFF_TARGET else " (over)"
-        lines.append(f"| `./course diff {a[:2]} {b[:2]}` | {len(diffs)} | {added} | "
+        lines.append(f"| `./course diff {a[:2]} {b[:2]}` | {len(files)} | {added} | "
                      f"{removed} | {total}{mark} |")
     return "\n".join(lines) + "\n"
 
