@@ -45,7 +45,7 @@ course_teapot(teapot_552 3)
 course_teapot(teapot_552_no_normals 3 --no-normals)
 course_teapot(teapot_6320 10)
 
-# The gems of chapter 10's cornell_gems.scene: python_prototypes/gems.py writes each one
+# The gems of chapter 11's cornell_gems.scene: python_prototypes/gems.py writes each one
 # under a temporary name and renames it, so a stopped build leaves no half mesh.
 set(_course_gems_script "${CMAKE_SOURCE_DIR}/python_prototypes/gems.py")
 set(_course_gem_files "")

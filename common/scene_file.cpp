@@ -1,4 +1,4 @@
-// Scenes from text files (chapters 10, 11, 12 and the appendix). The file is read whole and
+// Scenes from text files (chapters 11, 12, 13 and the appendix). The file is read whole and
 // walked line by line, as the OBJ loader does (chapter 07); each statement is checked
 // as it is read, and what needs the whole file (materials used before their line, the
 // camera, an emitter) is checked at the end.

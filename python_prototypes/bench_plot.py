@@ -1,5 +1,5 @@
 """Plot how ray tracing speed scales with the number of triangles: brute force against
-the BVH (chapter 12), for camera (primary) rays and diffuse bounce rays, on log-log axes.
+the BVH (chapter 13), for camera (primary) rays and diffuse bounce rays, on log-log axes.
 
 The input is a JSON file of measurements, either a list of records or an object whose
 "results" holds that list (and an optional "title", e.g. the GL renderer):

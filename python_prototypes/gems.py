@@ -1,4 +1,4 @@
-"""Faceted gems as OBJ meshes, for the Cornell box scene "gems" (chapter 10).
+"""Faceted gems as OBJ meshes, for the Cornell box scene "gems" (chapter 11).
 
 Three cuts, each a closed convex solid of flat facets, wound counter-clockwise seen
 from outside (so cross(b - a, c - a) points out), standing on the plane y = 0 about

@@ -1,4 +1,4 @@
-"""Chapter 10's yardstick: the same scene rendered by Mitsuba 3, and the image split into
+"""Chapter 11's yardstick: the same scene rendered by Mitsuba 3, and the image split into
 regions (each wall, each sphere, the light) so that any two renderers can be compared
 region by region.
 

@@ -1,4 +1,4 @@
-"""Monte Carlo integration in numpy: the estimator chapter 10's path tracer runs on the GPU.
+"""Monte Carlo integration in numpy: the estimator chapter 11's path tracer runs on the GPU.
 
 To estimate F = ∫ f(x) dx, draw N samples x_i with a density p(x) and average
 f(x_i) / p(x_i). Its expected value is F (it is unbiased) for any p that is non-zero

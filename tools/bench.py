@@ -1,4 +1,4 @@
-"""./course bench: chapter 11 (NEE + MIS) against Mitsuba 3 on the Cornell box, in one run.
+"""./course bench: chapter 12 (NEE + MIS) against Mitsuba 3 on the Cornell box, in one run.
 
 Same scene (assets/scenes/cornell_box.scene, which is mitsuba.cornell_box()), same
 resolution, samples per pixel and depth (ours --depth N = Mitsuba max_depth N + 1), our

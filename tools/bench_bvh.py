@@ -1,4 +1,4 @@
-"""./course bench bvh: chapter 12's BVH against brute force, from 552 to a million
+"""./course bench bvh: chapter 13's BVH against brute force, from 552 to a million
 triangles, in one run.
 
 Each Newell teapot (build/assets/meshes/teapot_N.obj) stands in the empty Cornell room

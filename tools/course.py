@@ -522,14 +522,14 @@ def cmd_bench(args):
     import bench
     status = 0
     if args.which in ("all", "mitsuba"):
-        build(["11_light_sampling"])
-        status |= bench.main(binary(find_chapter("11")), args.size, args.spp, args.depth)
+        build(["12_light_sampling"])
+        status |= bench.main(binary(find_chapter("12")), args.size, args.spp, args.depth)
     if args.which in ("all", "bvh"):
         # The 100 000- and 1 000 000-triangle teapots are made only for this.
-        build(["12_bvh", "course_benchmark_assets"])
+        build(["13_bvh", "course_benchmark_assets"])
         import bench_bvh
         machine = f"{bench.cpu_model()} ({os.cpu_count()} cores)"
-        status |= bench_bvh.main(binary(find_chapter("12")), BUILD / "assets" / "meshes",
+        status |= bench_bvh.main(binary(find_chapter("13")), BUILD / "assets" / "meshes",
                                  machine)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
@@ -687,8 +687,8 @@ def main():
                       help="the student edition, to publish: the starters' code instead of "
                       "the solutions, no answer notes (into book/site-student)")
 
-    bench = verbs.add_parser("bench", help="chapter 11 against Mitsuba 3 on the Cornell box; "
-                             "chapter 12's BVH against brute force, 552 to 1M triangles")
+    bench = verbs.add_parser("bench", help="chapter 12 against Mitsuba 3 on the Cornell box; "
+                             "chapter 13's BVH against brute force, 552 to 1M triangles")
     bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
                        default="all", help="which benchmark (default: mitsuba and bvh; "
                        "grading: one submission of each chapter on one core)")

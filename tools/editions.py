@@ -283,7 +283,7 @@ def write_student_sources(root: Path, out: Path, diff_pairs: list[tuple[str, str
             (out / relative).write_text(text)
     shutil.copytree(root / "common", out / "common")
     shutil.copytree(root / "assets", out / "assets")  # the scene files pages show
-    # Prototypes whose code a page shows (the numpy Monte Carlo of chapter 10): they
+    # Prototypes whose code a page shows (the numpy Monte Carlo of chapter 11): they
     # teach, they are not exercises; the reference renderers are not copied.
     for page in sorted((root / "book" / "docs" / "chapters").glob("*.md")):
         for shown in re.findall(r'--8<-- "(python_prototypes/[\w/]+\.py)', page.read_text()):

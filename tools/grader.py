@@ -495,7 +495,7 @@ def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> P
 def statistical_references(root: Path, build: Path, chapter: str,
                            test: GradeTest) -> list[Path]:
     """The solution's PFMs a 'statistical' or 'traversal' test compares with
-    (tools/grading_statistics.py: many samples at a few seeds, or chapter 12's distance
+    (tools/grading_statistics.py: many samples at a few seeds, or chapter 13's distance
     and cost views), rendered once by the instructor's build and kept beside the
     reference images, each named by a hash of its arguments."""
     import grading_statistics
@@ -556,7 +556,7 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
         return outcome
 
     if test.kind in ("statistical", "traversal"):
-        # Random pictures by statistics, chapter 12's tree by its work within a band:
+        # Random pictures by statistics, chapter 13's tree by its work within a band:
         # tools/grading_statistics.py, with this grader's runner and references.
         import grading_statistics
         return grading_statistics.grade_test(

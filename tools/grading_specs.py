@@ -9,7 +9,7 @@ kind 'statistical': for random pictures. The submission renders the args several
   at its own seeds (`sampling`); each region's mean must agree with the solution's
   many-sample render in a z-test with the submission's own noise
   (tools/grading_statistics.py), so any correct estimator passes, whatever its noise.
-kind 'traversal': chapter 12's tree: the solution's nearest hits, and about its work.
+kind 'traversal': chapter 13's tree: the solution's nearest hits, and about its work.
 
 Points: a plausible wrong implementation should lose at least half, a correct one
 nothing, so each chapter's tests weigh what they catch
@@ -57,7 +57,7 @@ TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two s
 # so it takes fewer.
 PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=2048)
 TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
-# Chapter 12's picture tells a right tree from a wrong one by whole missing triangles:
+# Chapter 13's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
 # The appendix's gems test every triangle for every ray in a fragment shader: its
@@ -140,14 +140,14 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
                   "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
     ],
-    # Chapter 10: a path-traced picture is random, and any correct sampler of the same
+    # Chapter 11: a path-traced picture is random, and any correct sampler of the same
     # directions may draw its numbers in another order or map them another valid way:
     # graded by its expectation (tools/grading_statistics.py), never by reproducing the
     # solution's noise. Each test probes other code: direct light (the first bounce's
     # direction and weight), a path's length (two bounces: one too many or too few shows
     # through BSDF sampling's noise; at four, a fifth bounce's light would not), the
     # whole series, and a room lit by two lights of different sizes.
-    "10": [
+    "11": [
         GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
                   sampling=PATH_SAMPLING),
         GradeTest("Cornell box, two bounces", 2.5, [*TINY, "--depth", "2"], "statistical",
@@ -157,13 +157,13 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("two lights, global illumination", 2.5, [*TINY, *TWO_LIGHTS],
                   "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
-    # Chapter 11: as chapter 10, graded by expectation. Each test probes other code:
+    # Chapter 12: as chapter 11, graded by expectation. Each test probes other code:
     # direct light (light sampling and MIS against BSDF sampling at the first bounce), a
     # path's length (four bounces), Russian roulette (from the third bounce on), light
     # sampling without MIS. Three of them light the room with two lights of different
     # sizes (assets/scenes/cornell_two_lights.scene): every other scene the chapter ships
     # has one light, where a density not divided by the number of lights goes unseen.
-    "11": [
+    "12": [
         GradeTest("two lights, direct light", 2.5, [*TINY, *TWO_LIGHTS, "--direct"],
                   "statistical", sampling=PATH_SAMPLING),
         GradeTest("two lights, four bounces", 2.5, [*TINY, *TWO_LIGHTS, "--depth", "4"],
@@ -174,7 +174,7 @@ SPECS: dict[str, list[GradeTest]] = {
                   [*TINY, *TWO_LIGHTS, "--estimator", "nee"], "statistical",
                   "after_due_date", sampling=PATH_SAMPLING),
     ],
-    "12": [
+    "13": [
         # The tree must give the pictures of brute force (a slab test that enters every
         # box does too, only slowly) and do about the solution's work, but need not be
         # the solution's tree: another valid SAH (another bin count, the cost divided by
@@ -192,9 +192,9 @@ SPECS: dict[str, list[GradeTest]] = {
                   ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
                   "traversal", visibility="after_due_date"),
     ],
-    # Appendix A1: the path tracer of chapter 11 on OpenGL 3.3. What a student writes is
+    # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
-    # texture. Graded by statistics, as chapter 11. Every scene has quads (the room);
+    # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);
     # the gems' two tests carry half the points, so that a wrong triangle loses half.
     "A1": [
         GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",

@@ -46,7 +46,7 @@ missing 1/pi and a bounce too few are both wrong estimators), while the number o
 regions that reject it grows with the samples taken. Partial credit comes from a
 chapter's several tests, each probing other code.
 
-The 'traversal' kind grades chapter 12's tree by what it does, not by equality with the
+The 'traversal' kind grades chapter 13's tree by what it does, not by equality with the
 solution's tree (another valid SAH, another bin count, another slab test give another
 tree with other per-pixel costs): the nearest hits must be the solution's (--view
 distance, deterministic: one ray through each pixel's centre) and the work (--view cost,
@@ -76,7 +76,7 @@ SUBMISSION_SEED = 1         # the submission's runs: seeds 1, 2, ...
 REFERENCE_SEED = 1_000_001  # the solution's many-sample runs: far from the submission's
 NOISE_SEED = 2_000_001      # the solution's runs at the submission's budget
 
-# Chapter 12's --view cost: path.comp's heat(steps / COST_SCALE), blue to red.
+# Chapter 13's --view cost: path.comp's heat(steps / COST_SCALE), blue to red.
 COST_SCALE = 60.0
 HEAT_COLOURS = np.array([[0.0, 0.0, 0.4], [0.0, 0.7, 1.0], [1.0, 0.9, 0.0],
                          [0.9, 0.0, 0.0]])

@@ -8,11 +8,11 @@ programs that render them. Standard library only: ./course reads it before any s
     title = Path tracing
     summary = Monte Carlo integration prototyped in numpy, ...
     run = --width 400 --height 400 --spp 64      (optional)
-    base = 11_light_sampling                     (appendices only)
+    base = 12_light_sampling                     (appendices only)
 
     [figures]
-    10_direct.png = 10 --width 200 --height 200 --spp 64 --direct
-    10_mc_light.png = python_prototypes/monte_carlo.py --which light --seed 1
+    11_direct.png = 11 --width 200 --height 200 --spp 64 --direct
+    11_mc_light.png = python_prototypes/monte_carlo.py --which light --seed 1
 
 A figure's program is a chapter's number or a script in python_prototypes/; the rest
 of the line is its arguments. Grading tests stay in tools/grading_specs.py: they are
@@ -34,14 +34,14 @@ class ManifestError(Exception):
 
 @dataclass(frozen=True)
 class Figure:
-    name: str       # the PNG's file name, e.g. "10_direct.png"
-    program: str    # a chapter's number ("10", "A1") or "python_prototypes/x.py"
+    name: str       # the PNG's file name, e.g. "11_direct.png"
+    program: str    # a chapter's number ("11", "A1") or "python_prototypes/x.py"
     arguments: str  # the rest of the line, as the program takes it
 
 
 @dataclass(frozen=True)
 class Manifest:
-    chapter: str    # the folder name, e.g. "10_path_tracing"
+    chapter: str    # the folder name, e.g. "11_path_tracing"
     title: str
     summary: str
     run: list[str] = field(default_factory=list)

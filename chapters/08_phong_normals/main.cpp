@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
         //    is refused (exit code 4) rather than drawn wrong.
         course::checkLoopBudget({objPath, mesh.triangleCount() + 2,  // + the floor's 2
                                  "triangles (with the floor's 2)", 2,
-                                 "Chapter 12's BVH renders this mesh."});
+                                 "Chapter 13's BVH renders this mesh."});
         // --8<-- [end:load]
 
         // --8<-- [start:normals]

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
         // then the shadow ray (or --view ao's ray). Too many for the GL: exit code 4.
         course::checkLoopBudget({objPath, mesh.triangleCount() + 2,  // + the floor's 2
                                  "triangles (with the floor's 2)", 2,
-                                 "Chapter 12's BVH renders this mesh."});
+                                 "Chapter 13's BVH renders this mesh."});
         if (mesh.normalIndices.empty()) {
             mesh.normals = areaWeightedNormals(mesh.positions, mesh.positionIndices);
             mesh.normalIndices = mesh.positionIndices;

@@ -1,7 +1,7 @@
 // Progressive rendering without image load/store or storage buffers: two framebuffers
 // that take turns (ping-pong). A pass draws into one of them while its fragment shader
 // reads what the previous pass left in the other; then they swap roles. Each holds,
-// per pixel, what chapter 11 kept in storage buffers between dispatches:
+// per pixel, what chapter 12 kept in storage buffers between dispatches:
 //   MEAN_OUTPUT    GL_RGBA32F   the running mean of the samples, linear RGB
 //   RANDOM_OUTPUT  GL_RGBA32UI  the generator's state (random.glsl)
 //   RAYS_OUTPUT    GL_R32UI     the rays traced so far

@@ -35,7 +35,7 @@ int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const course::SceneFile&
                  " (" + limitName + " in shaders/A1_gl33_fragment/shared.h)");
 }
 
-// Chapter 11's triangles, positions and normals, gathered mesh by mesh: they become
+// Chapter 12's triangles, positions and normals, gathered mesh by mesh: they become
 // runs of texels once every mesh is in (shared.h).
 struct Meshes {
     std::vector<glm::vec4> triangles;  // TRIANGLE_TEXELS each
@@ -74,7 +74,7 @@ void addMesh(Meshes& meshes, std::vector<gpu::Emitter>& emitters,
         float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
         size_t index = meshes.triangles.size() / TRIANGLE_TEXELS;
         int64_t emitter = addEmitter(emitters, scene, material, SHAPE_TRIANGLE, index, area);
-        // Chapter 11's Triangle as two texels, its indices as float numbers.
+        // Chapter 12's Triangle as two texels, its indices as float numbers.
         glm::uvec3 cornerNormal = firstNormal + glm::uvec3(cornerNormals[i],
                                                            cornerNormals[i + 1],
                                                            cornerNormals[i + 2]);

@@ -1,4 +1,4 @@
-// Appendix A1: chapter 11's path tracer on OpenGL 3.3, for machines without compute
+// Appendix A1: chapter 12's path tracer on OpenGL 3.3, for machines without compute
 // shaders (macOS stops at 4.1). A fragment shader draws one sample per pixel per pass
 // over a fullscreen triangle; the shapes are in a buffer texture, the materials and
 // lights in a uniform buffer, and two framebuffers take turns holding the running mean.
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:upload]
 
         // --8<-- [start:passes]
-        // 3. Chapter 11's seeding and progressive loop, a pass where it had a dispatch,
+        // 3. Chapter 12's seeding and progressive loop, a pass where it had a dispatch,
         //    and its PathParameters block, written before each pass. The blocks are
         //    connected by name every pass: a hot-reloaded program starts without that.
         course::ShaderProgram& seed = session.loadProgram(

@@ -1,5 +1,5 @@
 // The scene on the GPU, the GL 3.3 way: the shapes in a buffer texture (TBO), the
-// materials and emitters in a uniform buffer (UBO). Chapter 11 put all five arrays in
+// materials and emitters in a uniform buffer (UBO). Chapter 12 put all five arrays in
 // storage buffers; GL 3.3 shaders cannot read those.
 #pragma once
 #include <string>

@@ -1,5 +1,5 @@
 // Scenes as small text files (assets/scenes/*.scene), read by a strict line parser.
-// The scene-file reader of chapters 10, 11, 12 and the appendix; no chapter teaches it, so
+// The scene-file reader of chapters 11, 12, 13 and the appendix; no chapter teaches it, so
 // it lives here once. No GL: a chapter turns a SceneFile into what its shaders read,
 // and loads the meshes it names with its own OBJ loader (chapter 07's lesson).
 //

@@ -1,5 +1,5 @@
 #version 330 core
-// Appendix A1: chapter 11's path tracer as a fragment shader. Each pass draws one
+// Appendix A1: chapter 12's path tracer as a fragment shader. Each pass draws one
 // triangle over the whole image, and this shader runs once per pixel: it adds one
 // sample, a path from the camera that bounces off Lambertian surfaces, gathering the
 // light of the area lights it finds (by hitting them, by aiming shadow rays at them, or
@@ -52,7 +52,7 @@ vec3 lightFromEmitters(Hit hit, inout RandomState random, inout uint rays) {
     float cosSurface = dot(hit.normal, direction);
     float cosLight = -dot(light.normal, direction);
     if (cosSurface <= 0.0 || cosLight <= 0.0) return vec3(0.0);  // behind one or other
-    // Under the surface itself: BSDF sampling ends such paths (chapter 10), so must this.
+    // Under the surface itself: BSDF sampling ends such paths (chapter 11), so must this.
     if (dot(hit.geometricNormal, direction) <= 0.0) return vec3(0.0);
     rays += 1u;
     // Stop short of the light by the same kind of gap, or the light itself is in the way.
@@ -91,7 +91,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         }
         // A surface's back is black (as Mitsuba's diffuse); --depth ends the path.
         if (!hit.front || bounce == maxBounces) break;
-        // So is a front whose smooth normal faces away from the ray (chapter 10).
+        // So is a front whose smooth normal faces away from the ray (chapter 11).
         if (dot(hit.normal, ray.direction) >= 0.0) break;
 
         // 2. Light from the emitters straight to this point (next-event estimation).
@@ -102,7 +102,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         // 3. The next direction, by cosine sampling: (albedo / pi) cos / (cos / pi) is
         //    the albedo, so the throughput only picks up the surface's colour.
         vec3 direction = cosineSampleHemisphere(hit.normal, random2(random));
-        if (dot(direction, hit.geometricNormal) <= 0.0) break;  // under it (chapter 10)
+        if (dot(direction, hit.geometricNormal) <= 0.0) break;  // under it (chapter 11)
         directionPdf = max(dot(hit.normal, direction), 0.0) / PI;
         throughput *= albedo;
 
@@ -123,15 +123,15 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
 void main() {
     // --8<-- [start:pixel]
     // gl_FragCoord is the pixel's centre, (x + 0.5, y + 0.5). Row y of the framebuffer
-    // holds row y of the image counted from the top, as in chapter 11: upside down by
+    // holds row y of the image counted from the top, as in chapter 12: upside down by
     // GL's convention, but glReadPixels then hands back the top row first, the order
-    // of an image file. The pixel sees the same ray and random numbers as in chapter 11.
+    // of an image file. The pixel sees the same ray and random numbers as in chapter 12.
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     ivec2 samePixel = ivec2(pixel);  // where the previous pass left this pixel's state
     // --8<-- [end:pixel]
 
     // --8<-- [start:accumulate]
-    // As in chapter 11: the pixel's generator continues from the previous pass, and the
+    // As in chapter 12: the pixel's generator continues from the previous pass, and the
     // image holds the running mean of the samples.
     RandomState random = RandomState(texelFetch(previousRandom, samePixel, 0));
     uint rays = sampleIndex == 0u ? 0u : texelFetch(previousRays, samePixel, 0).r;

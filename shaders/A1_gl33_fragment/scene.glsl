@@ -1,7 +1,7 @@
 // The scene: spheres, quads and triangles in a buffer texture, each with a material
 // and, if it glows, its place in the emitter list (materials and emitters are in the
 // uniform block of shared.h); the triangles' corners and normals in the same texture,
-// as in chapter 09. Every ray tests every shape (chapter 12's BVH does better); the
+// as in chapter 09. Every ray tests every shape (chapter 13's BVH does better); the
 // Cornell scenes have a few dozen shapes, the gems ~200.
 
 // --8<-- [start:fetch]
@@ -9,7 +9,7 @@
 // texelFetch(primitives, i) is the i-th RGBA32F texel, any i, no filtering.
 uniform samplerBuffer primitives;
 
-// The shapes as chapter 11's shaders see them, built here from their texels.
+// The shapes as chapter 12's shaders see them, built here from their texels.
 struct Sphere {
     vec3 center;
     float radius;
@@ -23,7 +23,7 @@ struct Quad {
     uint material;
     uint emitter;
 };
-struct Triangle {  // chapter 11's: the front is where the corners run counter-clockwise
+struct Triangle {  // chapter 12's: the front is where the corners run counter-clockwise
     uvec3 corners;        // indices into the positions
     uint material;
     uvec3 cornerNormals;  // indices into the normals, in the corners' order
@@ -62,7 +62,7 @@ Triangle triangleAt(uint i) {
     // STUB: return Triangle(uvec3(0u), 0u, uvec3(0u), NO_EMITTER);
     // END SOLUTION
 }
-// Chapter 11's positions[i] and normals[i]: the triangles' corners and their normals.
+// Chapter 12's positions[i] and normals[i]: the triangles' corners and their normals.
 vec4 positionAt(uint i) { return texel(firstPositionTexel + i); }
 vec4 normalAt(uint i) { return texel(firstNormalTexel + i); }
 // --8<-- [end:fetch]

@@ -1,5 +1,5 @@
 #version 330 core
-// Gives every pixel its generator's starting state, once per image: chapter 11's
+// Gives every pixel its generator's starting state, once per image: chapter 12's
 // seed.comp as a pass over the whole image. It starts the mean and ray count at zero.
 // imageSize and seed (--seed) come in the PathParameters block (shared.h).
 #include "shared.h"

@@ -34,12 +34,12 @@
 // --8<-- [start:texels]
 // Shapes live in one buffer texture of RGBA32F texels, read with texelFetch: spheres
 // first, then quads, then triangles, each a run of texels; then the two runs the
-// triangles point into, chapter 11's positions and normals. A texel holds four floats,
+// triangles point into, chapter 12's positions and normals. A texel holds four floats,
 // so indices are stored as float numbers (exact up to 2^24), the emitter as -1 when the
 // shape does not glow.
 //   sphere    centre and radius; (material, emitter, 0, 0)
 //   quad      origin; edge1; edge2; (material, emitter, 0, 0)
-//   triangle  (corners, material); (cornerNormals, emitter): chapter 11's Triangle,
+//   triangle  (corners, material); (cornerNormals, emitter): chapter 12's Triangle,
 //             its corners' indices into the positions and theirs into the normals
 //   position  a triangle corner, in the world (w unused)
 //   normal    the unit normal at a corner (w unused)

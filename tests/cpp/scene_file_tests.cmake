@@ -1,4 +1,4 @@
-# The scene-file parser of chapters 10, 11, 12 and the appendix (common/scene_file.cpp, part
+# The scene-file parser of chapters 11, 12, 13 and the appendix (common/scene_file.cpp, part
 # of course_common): every statement, every mistake's message, round trips and the
 # shipped scenes (assets/scenes/*.scene). No GL and no generated meshes needed.
 # Included from tests/cpp/CMakeLists.txt, after add_unit_test() is defined.

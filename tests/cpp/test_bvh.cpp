@@ -1,4 +1,4 @@
-// Chapter 12's BVH builder, on the CPU: the tree's invariants on many meshes (every
+// Chapter 13's BVH builder, on the CPU: the tree's invariants on many meshes (every
 // triangle in exactly one leaf, boxes nested and tight, leaves and depth bounded),
 // determinism, degenerate and bad inputs, and rays: the traversal of
 // bvh_traversal.glsl, ported to C++, finds exactly what testing every triangle finds.

@@ -1,4 +1,4 @@
-// The scene files of chapters 10, 11, 12 and the appendix (common/course/scene_file.h):
+// The scene files of chapters 11, 12, 13 and the appendix (common/course/scene_file.h):
 // every statement read as documented, the exact message for every mistake, round trips
 // through formatSceneFile, the shipped scenes, and no crash or hang on garbage.
 #include <gtest/gtest.h>
@@ -296,7 +296,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
                 write("generated/" + meshPath, "v 0 0 0\n");
         }
         const SceneFile scene = loadSceneFile(entry.path().string(), {generated.string()});
-        // One light each, but the grader's scene of two (chapter 11's choice of light).
+        // One light each, but the grader's scene of two (chapter 12's choice of light).
         EXPECT_EQ(scene.emitterCount(),
                   entry.path().stem() == "cornell_two_lights" ? 2u : 1u);
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,

@@ -53,9 +53,9 @@ def apply(variant: Variant, root: Path, destination: Path) -> Path:
     return destination
 
 
-# ---------------------------------------------------------------- chapter 10
+# ---------------------------------------------------------------- chapter 11
 
-P = "10_path_tracing"
+P = "11_path_tracing"
 COSINE = """    float radius = sqrt(u.x);
     float angle = 2.0 * PI * u.y;
     vec3 local = vec3(radius * cos(angle), radius * sin(angle), sqrt(max(0.0, 1.0 - u.x)));
@@ -85,7 +85,7 @@ CONCENTRIC = """    vec2 square = 2.0 * u - 1.0;
     vec3 local = vec3(disk, sqrt(max(0.0, 1.0 - dot(disk, disk))));
 """
 
-CHAPTER_10 = [
+CHAPTER_11 = [
     Variant(P, "cosine sampler with u.x and u.y swapped", True, (
         Edit("shaders/sampling.glsl", COSINE, swapped(COSINE)),)),
     Variant(P, "concentric (Shirley-Chiu) disk mapping", True, (
@@ -114,15 +114,15 @@ CHAPTER_10 = [
 ]
 
 
-# ---------------------------------------------------------------- chapter 11
+# ---------------------------------------------------------------- chapter 12
 
-T = "11_light_sampling"
+T = "12_light_sampling"
 LIGHT_PDF = "    return areaPdf * distance * distance / cosLight;\n"
 CHOICE = ("    uint chosen = min(uint(random01(random) * float(emitterCount)), "
           "emitterCount - 1u);\n")
 HIT_WEIGHT = "weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));"
 
-CHAPTER_11 = [
+CHAPTER_12 = [
     Variant(T, "random numbers drawn in another order (light point, then light)", True, (
         Edit("shaders/path.comp", CHOICE + "    LightPoint light = sampleEmitter(emitters"
              "[chosen], random2(random));\n",
@@ -183,7 +183,7 @@ CHAPTER_11 = [
              "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
 ]
 
-CATALOGUE = {"10": CHAPTER_10, "11": CHAPTER_11}
+CATALOGUE = {"11": CHAPTER_11, "12": CHAPTER_12}
 
 
 # ---------------------------------------------------------------- chapter 09
@@ -236,9 +236,9 @@ CHAPTER_09 = [
 CATALOGUE["09"] = CHAPTER_09
 
 
-# ---------------------------------------------------------------- chapter 12
+# ---------------------------------------------------------------- chapter 13
 
-B = "12_bvh"
+B = "13_bvh"
 SAH = """            double cost = options_.nodeCost * box.halfArea() +
                           options_.triangleCost * (left.halfArea() * leftCount +
                                                    rightAreas_[bin] * rightCount);
@@ -249,7 +249,7 @@ SLAB_PLANES = """    vec3 nearPlanes = mix(boxMin, boxMax, ray.negative);
     vec3 tFar = (farPlanes - ray.origin) * ray.inverseDirection;
 """
 
-CHAPTER_12 = [
+CHAPTER_13 = [
     Variant(B, "SAH costs divided by the node's area (split and leaf alike)", True, (
         Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost +
                           options_.triangleCost * (left.halfArea() * leftCount +
@@ -283,7 +283,7 @@ CHAPTER_12 = [
 """),)),
 ]
 
-CATALOGUE["12"] = CHAPTER_12
+CATALOGUE["13"] = CHAPTER_13
 
 
 # ---------------------------------------------------------------- appendix A1

@@ -1,4 +1,4 @@
-"""What the path tracers' checks (chapters 10 and 11) share: rendering to linear PFM,
+"""What the path tracers' checks (chapters 11 and 12) share: rendering to linear PFM,
 the standard error of a mean over pixels, a closed-form form factor, and the region by
 region comparison with Mitsuba 3.
 

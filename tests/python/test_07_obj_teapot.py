@@ -199,7 +199,7 @@ def test_a_mesh_beyond_the_measured_limit_is_refused_else_rendered_right(
     assert result.returncode == 4, result.stderr
     total = len(triangles) + 2  # the floor's two
     for words in (f"{big}: {total} triangles", str(2 * total), f"after {limit} (measured)",
-                  renderer, "Chapter 12's BVH"):
+                  renderer, "Chapter 13's BVH"):
         assert words in result.stderr
     assert not out.exists()
 

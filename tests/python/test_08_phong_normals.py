@@ -161,5 +161,5 @@ def test_the_loop_limit_still_holds(tmp_path, reference):
         assert_images_agree(read_image(tmp_path / "big.png"), png_of(reference, big, 8, 8))
         return
     assert result.returncode == 4, result.stderr
-    assert f"{len(triangles) + 2} triangles" in result.stderr and "Chapter 12" in result.stderr
+    assert f"{len(triangles) + 2} triangles" in result.stderr and "Chapter 13" in result.stderr
     assert not (tmp_path / "big.png").exists()

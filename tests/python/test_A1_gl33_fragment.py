@@ -1,8 +1,8 @@
-"""Appendix A1: chapter 11's path tracer as an OpenGL 3.3 fragment shader.
+"""Appendix A1: chapter 12's path tracer as an OpenGL 3.3 fragment shader.
 
 It runs on contexts that really are 3.3 (Mesa with its version forced down, on EGL and
 on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
-chapter 11's: on llvmpipe the same seed gives the same bits (the random streams, the
+chapter 12's: on llvmpipe the same seed gives the same bits (the random streams, the
 arithmetic and the order of the samples are the same), for spheres and for triangles
 (faceted gems, smooth teapots, a lone glowing triangle), and with another seed the
 regions of the Cornell box agree within their statistical error
@@ -25,7 +25,7 @@ from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shader
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
 SCENES = ROOT / "assets" / "scenes"
-SIGMAS = 4.5  # as chapter 11's checks: a correct renderer fails 1 in ~150,000
+SIGMAS = 4.5  # as chapter 12's checks: a correct renderer fails 1 in ~150,000
 SIZE = ("--width", "48", "--height", "48")
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
@@ -39,16 +39,16 @@ def render(tmp_path, prefix: str, name: str, *args, env=None) -> tuple[np.ndarra
     return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
 
 
-# --- The same pictures as chapter 11 --------------------------------------------------
+# --- The same pictures as chapter 12 --------------------------------------------------
 
 @pytest.fixture(scope="module")
 def pictures(tmp_path_factory):
-    """Chapter 11 (GL 4.5) and the appendix on forced 3.3 contexts, global and direct."""
+    """Chapter 12 (GL 4.5) and the appendix on forced 3.3 contexts, global and direct."""
     folder = tmp_path_factory.mktemp("pictures")
     runs = {}
     for light in ("global", "direct"):
         options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
-        runs["11", light, 1] = render(folder, "11", f"c11_{light}", *options, "--seed", 1)
+        runs["12", light, 1] = render(folder, "12", f"c12_{light}", *options, "--seed", 1)
         runs["egl", light, 1] = render(folder, "A1", f"egl_{light}", *options, "--seed", 1,
                                        "--backend", "egl", env=GL33)
         runs["egl", light, 2] = render(folder, "A1", f"egl_{light}_2", *options, "--seed", 2,
@@ -63,20 +63,20 @@ def test_runs_on_gl33_contexts_egl_and_osmesa(pictures):
         _, stats = pictures[backend, "global", 1]
         assert stats["gl_version"].startswith("3.3 (Core Profile)"), stats
         assert stats["backend"].startswith(backend), stats
-    _, stats = pictures["11", "global", 1]
-    assert not stats["gl_version"].startswith("3.3")  # chapter 11 needs 4.3
+    _, stats = pictures["12", "global", 1]
+    assert not stats["gl_version"].startswith("3.3")  # chapter 12 needs 4.3
     a, b = pictures["egl", "global", 1][0], pictures["osmesa", "global", 1][0]
     assert np.array_equal(a, b)  # the same Mesa behind both
 
 
 @pytest.mark.parametrize("light", ["global", "direct"])
-def test_same_seed_same_samples_as_chapter_11(pictures, light):
-    # The same random streams, rays and arithmetic, one sample per pass as chapter 11 has
+def test_same_seed_same_samples_as_chapter_12(pictures, light):
+    # The same random streams, rays and arithmetic, one sample per pass as chapter 12 has
     # one per dispatch: on llvmpipe (one compiler for compute and fragment shaders) the
     # images are the same bits, and every pixel traced the same number of rays. Another
     # GL may compile the two shaders differently; then only the statistics below hold.
     ours, our_stats = pictures["egl", light, 1]
-    theirs, their_stats = pictures["11", light, 1]
+    theirs, their_stats = pictures["12", light, 1]
     assert our_stats["rays"] == their_stats["rays"]
     if "llvmpipe" in our_stats["renderer"]:
         assert np.array_equal(ours, theirs)
@@ -85,10 +85,10 @@ def test_same_seed_same_samples_as_chapter_11(pictures, light):
 
 
 @pytest.mark.parametrize("light", ["global", "direct"])
-def test_regions_agree_with_chapter_11_statistically(pictures, light):
-    # Independent streams (seed 2 against chapter 11's seed 1): each wall and sphere's
+def test_regions_agree_with_chapter_12_statistically(pictures, light):
+    # Independent streams (seed 2 against chapter 12's seed 1): each wall and sphere's
     # mean within 4.5 standard errors of the difference.
-    ours, theirs = pictures["egl", light, 2][0], pictures["11", light, 1][0]
+    ours, theirs = pictures["egl", light, 2][0], pictures["12", light, 1][0]
     assert not np.array_equal(ours, theirs)
     # The light has too few pixels wholly inside it at 48 x 48 to be compared.
     compared = regions_agreeing(ours, theirs,
@@ -96,7 +96,7 @@ def test_regions_agree_with_chapter_11_statistically(pictures, light):
     assert len(compared) >= 7  # five walls, two spheres
 
 
-# --- Triangles: chapter 11's meshes and normals, the same bits ------------------------
+# --- Triangles: chapter 12's meshes and normals, the same bits ------------------------
 
 # The empty room with a lone glowing triangle on the back wall (flat: its corners share
 # its own normal; NEE samples it, MIS weighs the paths that run into it) and the
@@ -122,24 +122,24 @@ TRIANGLE_SCENES = {
 
 @pytest.fixture(scope="module")
 def triangle_pictures(tmp_path_factory):
-    """Chapter 11 and the appendix (forced 3.3, EGL), seed 1, on each TRIANGLE_SCENES."""
+    """Chapter 12 and the appendix (forced 3.3, EGL), seed 1, on each TRIANGLE_SCENES."""
     folder = tmp_path_factory.mktemp("triangles")
     (folder / "lamp_and_teapot.scene").write_text(LAMP_AND_TEAPOT)
     runs = {}
     for name, options in TRIANGLE_SCENES.items():
         options = [folder / o if str(o).endswith(".scene") else o for o in options]
-        runs["11", name] = render(folder, "11", f"c11_{name}", *options, "--seed", 1)
+        runs["12", name] = render(folder, "12", f"c12_{name}", *options, "--seed", 1)
         runs["A1", name] = render(folder, "A1", f"a1_{name}", *options, "--seed", 1,
                                   env=GL33)
     return runs
 
 
 @pytest.mark.parametrize("scene", list(TRIANGLE_SCENES))
-def test_triangles_same_seed_same_samples_as_chapter_11(triangle_pictures, scene):
-    # The same corners and normals (placed in the world on the CPU as chapter 11 does),
+def test_triangles_same_seed_same_samples_as_chapter_12(triangle_pictures, scene):
+    # The same corners and normals (placed in the world on the CPU as chapter 12 does),
     # the same hit test, normal blending and rules for the two normals: the same bits.
     ours, our_stats = triangle_pictures["A1", scene]
-    theirs, their_stats = triangle_pictures["11", scene]
+    theirs, their_stats = triangle_pictures["12", scene]
     for count in ("shapes", "emitters", "rays"):
         assert our_stats[count] == their_stats[count], count
     assert theirs.mean() > 0.01  # not a black picture
@@ -151,7 +151,7 @@ def test_triangles_same_seed_same_samples_as_chapter_11(triangle_pictures, scene
 
 def test_flat_shading_normals_would_be_caught(tmp_path, triangle_pictures):
     # A check that cannot fail is not a check: the appendix shading the teapot with its
-    # facets' own normals, as it did before it followed chapter 11, is not chapter 11's.
+    # facets' own normals, as it did before it followed chapter 12, is not chapter 12's.
     shaders = copy_shaders("A1", tmp_path)
     triangle = shaders / "triangle.glsl"
     smooth = "vec3 normal = smoothNormal(normalsOf(triangle), barycentric, geometricNormal);"
@@ -159,13 +159,13 @@ def test_flat_shading_normals_would_be_caught(tmp_path, triangle_pictures):
     triangle.write_text(triangle.read_text().replace(smooth, "vec3 normal = geometricNormal;"))
     flat, _ = render(tmp_path, "A1", "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
                      "--shader-dir", shaders, env=GL33)
-    assert not np.array_equal(flat, triangle_pictures["11", "teapot"][0])
+    assert not np.array_equal(flat, triangle_pictures["12", "teapot"][0])
 
 
-def test_random_numbers_are_chapter_11s_file(tmp_path):
+def test_random_numbers_are_chapter_12s_file(tmp_path):
     # Bit for bit the same generator: the very same GLSL (it needs nothing above 3.30).
     ours = (ROOT / "shaders" / "A1_gl33_fragment" / "random.glsl").read_bytes()
-    assert ours == (ROOT / "shaders" / "11_light_sampling" / "random.glsl").read_bytes()
+    assert ours == (ROOT / "shaders" / "12_light_sampling" / "random.glsl").read_bytes()
 
 
 def test_splitting_the_passes_changes_nothing(tmp_path):
@@ -326,7 +326,7 @@ def test_a_triangles_corners_and_normal_count_in_the_texels(tmp_path):
     assert result.returncode == 0, result.stderr
 
 
-def test_too_many_loop_iterations_are_refused_as_in_chapter_11(tmp_path):
+def test_too_many_loop_iterations_are_refused_as_in_chapter_12(tmp_path):
     # ~220 shapes x 1001 bounces: far beyond the 65535 iterations an invocation gets on
     # Mesa 22's llvmpipe. Refused where the appendix measures a limit for its fragment
     # shaders; drawn where there is none (paths end long before 1000 bounces).

@@ -106,18 +106,18 @@ def test_every_page_loads_cleanly_with_its_images_and_links(site_url, browser):
 
 
 def test_formulas_are_drawn_as_mathml(site_url, browser):
-    """Chapter 10's rendering equation is a display formula that Chromium lays out
+    """Chapter 11's rendering equation is a display formula that Chromium lays out
     itself: a <math display="block"> with an integral and subscripts, as tall as a
     formula and not a line of TeX; chapter 06's fractions have two parts, one above
     the other."""
     page = browser.new_page()
-    page.goto(urllib.parse.urljoin(site_url, "chapters/10_path_tracing/"), wait_until="load")
+    page.goto(urllib.parse.urljoin(site_url, "chapters/11_path_tracing/"), wait_until="load")
     formulas = page.eval_on_selector_all(
         "article math", "els => els.map(e => [e.getAttribute('display'), "
         "e.getBoundingClientRect().width, e.getBoundingClientRect().height, e.textContent])")
     assert len(formulas) >= 5, formulas
     display = [f for f in formulas if f[0] == "block"]
-    assert display, "no display formula on chapter 10's page"
+    assert display, "no display formula on chapter 11's page"
     _, width, height, text = display[0]
     assert "∫" in text and "ω" in text and "\\" not in text, text
     assert width > 200 and height > 10, (width, height)
@@ -149,7 +149,7 @@ def test_screenshots_for_the_record(site_url, browser):
     for relative, name, anchor in [
             (".", "book_home.png", None),
             ("chapters/02_first_pixels", "book_chapter02.png", None),
-            ("chapters/10_path_tracing", "book_chapter10_formula.png",
+            ("chapters/11_path_tracing", "book_chapter10_formula.png",
              "the-rendering-equation-and-how-to-estimate-it"),
             ("setup", "book_setup_platforms.png", "what-each-platform-installs")]:
         page.goto(urllib.parse.urljoin(site_url, "" if relative == "." else relative + "/")

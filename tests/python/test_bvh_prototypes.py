@@ -1,4 +1,4 @@
-"""Chapter 12's Python side: the 2D binned-SAH prototype (python_prototypes/bvh_2d.py)
+"""Chapter 13's Python side: the 2D binned-SAH prototype (python_prototypes/bvh_2d.py)
 and the benchmark plot (python_prototypes/bench_plot.py)."""
 
 import json

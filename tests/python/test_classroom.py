@@ -148,9 +148,9 @@ def test_starter_has_a_classroom_workflow(tmp_path):
 
 
 def test_a_starter_runs_the_prototype_its_page_shows(tmp_path):
-    """Chapter 10's page shows code of python_prototypes/monte_carlo.py: the starter has
+    """Chapter 11's page shows code of python_prototypes/monte_carlo.py: the starter has
     it, with what it imports, and it runs there."""
-    starter = classroom.release(ROOT, "10_path_tracing", tmp_path / "s")
+    starter = classroom.release(ROOT, "11_path_tracing", tmp_path / "s")
     script = starter / "python_prototypes" / "monte_carlo.py"
     assert script.exists() and (starter / "python_prototypes" / "figure_file.py").exists()
     result = subprocess.run([sys.executable, str(script), "--figure", str(tmp_path / "mc.png"),

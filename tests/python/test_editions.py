@@ -17,7 +17,7 @@ Which lines count as "a line of a solution" (solution_lines below):
 
 The student edition holds every chapter at once, where a later chapter's own new code
 may share a short idiom with an earlier exercise (chapter 05's plane loop says
-`found = true;` like chapter 04's sphere loop; chapter 10's new sphere test ends in
+`found = true;` like chapter 04's sphere loop; chapter 11's new sphere test ends in
 `return t > tMin && t < tMax;` like chapter 04's). So for the book, a line shorter
 than IDIOM_LENGTH characters that also stands outside SOLUTION blocks in any chapter
 counts as an idiom, not as evidence. Every exercise keeps at least one line that

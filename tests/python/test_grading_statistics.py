@@ -212,7 +212,7 @@ def test_outputs_are_read_without_following_links(tmp_path):
 
 def test_pfm_reader_agrees_with_the_chapters_writer(tmp_path):
     out = tmp_path / "image.pfm"
-    result = run_chapter("10", "--headless", "--width", "13", "--height", "7", "--spp", "2",
+    result = run_chapter("11", "--headless", "--width", "13", "--height", "7", "--spp", "2",
                          "--out", str(out))
     assert result.returncode == 0, result.stderr
     assert np.array_equal(statistics.read_pfm(out), read_pfm(out))
@@ -230,7 +230,7 @@ def heat(x):
 
 
 def test_cost_heat_map_constants_are_the_shaders():
-    source = (ROOT / "shaders" / "12_bvh" / "path.comp").read_text()
+    source = (ROOT / "shaders" / "13_bvh" / "path.comp").read_text()
     scale = re.search(r"const float COST_SCALE = ([\d.]+);", source)
     assert float(scale.group(1)) == statistics.COST_SCALE
     for name, colour in zip(("blue", "cyan", "yellow", "red"), statistics.HEAT_COLOURS):
@@ -248,7 +248,7 @@ def test_cost_decodes_every_step_count():
 
 def test_solution_cost_view_decodes_to_whole_steps(tmp_path):
     out = tmp_path / "cost.pfm"
-    result = run_chapter("12", "--headless", "--width", "32", "--height", "32", "--view",
+    result = run_chapter("13", "--headless", "--width", "32", "--height", "32", "--view",
                          "cost", "--out", str(out))
     assert result.returncode == 0, result.stderr
     steps, off = statistics.decode_cost(read_pfm(out))
@@ -260,8 +260,8 @@ def test_solution_cost_view_decodes_to_whole_steps(tmp_path):
 
 # ---------------------------------------------------------------- the catalogues
 
-CATALOGUES = {"09": "09_random_numbers", "10": "10_path_tracing", "11": "11_light_sampling",
-              "12": "12_bvh", "A1": "A1_gl33_fragment"}
+CATALOGUES = {"09": "09_random_numbers", "11": "11_path_tracing", "12": "12_light_sampling",
+              "13": "13_bvh", "A1": "A1_gl33_fragment"}
 VARIANTS = [v for number in CATALOGUES for v in grading_variants.CATALOGUE[number]]
 
 
@@ -272,7 +272,7 @@ def test_the_catalogues_cover_every_statistical_chapter():
     for number in CATALOGUES:
         kinds = [v.correct for v in grading_variants.CATALOGUE[number]]
         assert kinds.count(True) >= 3 and kinds.count(False) >= 4, number
-    assert len(grading_variants.CATALOGUE["11"]) >= 12
+    assert len(grading_variants.CATALOGUE["12"]) >= 12
 
 
 def grade_variant(variant, folder: Path) -> tuple[dict, float]:

@@ -1,4 +1,4 @@
-"""Chapter 10's yardstick (python_prototypes/mitsuba_reference.py): our Cornell box files
+"""Chapter 11's yardstick (python_prototypes/mitsuba_reference.py): our Cornell box files
 hold exactly Mitsuba 3's Cornell box, Mitsuba renders them, the region masks split an
 image sensibly, and Mitsuba's region means are stable from seed to seed."""
 

@@ -1,4 +1,4 @@
-"""The Monte Carlo prototype of chapter 10 (python_prototypes/monte_carlo.py), against
+"""The Monte Carlo prototype of chapter 11 (python_prototypes/monte_carlo.py), against
 closed forms and statistics: every estimator's mean converges to its exact value, the
 error falls as 1/√N, importance and cosine sampling lower the variance, Lambert's formula
 for a polygonal light agrees with brute-force quadrature, and forgetting the Jacobian

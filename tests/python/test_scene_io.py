@@ -1,4 +1,4 @@
-"""Chapter 10's scene files on the Python side: the reader (python_prototypes/scene_io.py)
+"""Chapter 11's scene files on the Python side: the reader (python_prototypes/scene_io.py)
 and the gem meshes (python_prototypes/gems.py) that cornell_gems.scene places."""
 
 from pathlib import Path
@@ -31,11 +31,11 @@ def mesh_folder(tmp_path_factory):
 def test_shipped_scenes_load(mesh_folder):
     names = sorted(path.stem for path in SCENES.glob("*.scene"))
     assert {"cornell_spheres", "cornell_gems", "cornell_box"} <= set(names)
-    # The teapots (chapter 12's scenes) come from the build (cmake/Assets.cmake).
+    # The teapots (chapter 13's scenes) come from the build (cmake/Assets.cmake).
     built = ROOT / "build" / "assets"
     for name in names:
         scene = scene_io.load_scene(SCENES / f"{name}.scene", [mesh_folder, built])
-        # One light each, but the grader's scene of two (chapter 11's choice of light).
+        # One light each, but the grader's scene of two (chapter 12's choice of light).
         assert len(scene.emitters()) == (2 if name == "cornell_two_lights" else 1), name
         assert scene.camera.horizontal_fov_degrees() == pytest.approx(39.3077, abs=1e-4)
 

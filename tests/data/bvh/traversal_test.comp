@@ -1,5 +1,5 @@
 #version 430
-// Runs shaders/12_bvh/bvh_traversal.glsl on the GPU for a list of rays, so that
+// Runs shaders/13_bvh/bvh_traversal.glsl on the GPU for a list of rays, so that
 // tests/cpp/test_bvh_gpu.cpp can compare every answer with the C++ traversal. Loaded
 // with the chapter's shader folder as the base, so the includes below resolve there.
 

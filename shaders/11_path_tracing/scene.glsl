@@ -1,7 +1,6 @@
-// The scene: spheres, quads and triangles in storage buffers, each with a material
-// and, if it glows, its place in the emitter list;
+// The scene: spheres, quads and triangles in storage buffers, each with a material;
 // the triangles' corners and normals in two more, as in chapter 09. Every ray tests
-// every shape (chapter 12's BVH does better); the Cornell scenes have a few dozen
+// every shape (chapter 13's BVH does better); the Cornell scenes have a few dozen
 // shapes, the gems ~200.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
@@ -23,7 +22,6 @@ struct Hit {
     vec3 geometricNormal;  // unit, on the front side: the surface's own, flat
     bool front;            // did the ray arrive at the front of the surface itself?
     uint material;
-    uint emitter;          // index into the emitter list, or NO_EMITTER
 };
 
 // The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax).
@@ -62,12 +60,12 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
 // Chapter 09's triangles: hitTriangle, smoothNormal, triangleHit.
 #include "triangle.glsl"
 
-// Fills in a hit on a sphere or a quad from its front normal, material and emitter:
-// the same normal to shade with and to tell the sides apart.
-Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
+// Fills in a hit on a sphere or a quad from its front normal and material: the same
+// normal to shade with and to tell the sides apart.
+Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material) {
     vec3 normal = normalize(frontNormal);
     return Hit(t, ray.origin + t * ray.direction, normal, normal,
-               dot(normal, ray.direction) < 0.0, material, emitter);
+               dot(normal, ray.direction) < 0.0, material);
 }
 
 // --8<-- [start:nearest]
@@ -91,27 +89,13 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = spheres[index];
-        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material,
-                      s.emitter);
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material);
     } else if (kind == SHAPE_QUAD) {
         Quad q = quads[index];
-        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
+        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material);
     } else if (kind == SHAPE_TRIANGLE) {
         hit = triangleHit(ray, tMax, hitBarycentric, triangles[index]);
     }
     return kind >= 0;
 }
 // --8<-- [end:nearest]
-
-// Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
-bool anyHit(Ray ray, float tMin, float tMax) {
-    float t;
-    vec2 barycentric;
-    for (int i = 0; i < spheres.length(); ++i)
-        if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
-    for (int i = 0; i < quads.length(); ++i)
-        if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
-    for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric)) return true;
-    return false;
-}

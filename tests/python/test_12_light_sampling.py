@@ -1,6 +1,6 @@
-"""Chapter 11: light sampling, checked with statistics (book/docs/maintainers.md): white
+"""Chapter 12: light sampling, checked with statistics (book/docs/maintainers.md): white
 furnaces with Russian roulette, direct light with a closed form for each estimator, the
-three estimators agreeing, Mitsuba 3 region by region. What chapter 10 already checks
+three estimators agreeing, Mitsuba 3 region by region. What chapter 11 already checks
 of the same code (seeds, dispatches, scene files, the window) is not repeated.
 
 The limits and why: tests/python/path_checks.py."""
@@ -22,7 +22,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 
 def path_trace(tmp_path, name: str, *args) -> np.ndarray:
-    return path_checks.path_trace("11", tmp_path, name, *args)
+    return path_checks.path_trace("12", tmp_path, name, *args)
 
 
 # --- White furnaces -------------------------------------------------------------------
@@ -96,7 +96,7 @@ def test_estimators_converge_to_the_same_image(estimator_images, pair):
 # --- Statistics -----------------------------------------------------------------------
 
 def test_json_counts_rays(tmp_path):
-    result = run_chapter("11", "--headless", "--out", tmp_path / "x.pfm", "--width", 16,
+    result = run_chapter("12", "--headless", "--out", tmp_path / "x.pfm", "--width", 16,
                          "--height", 16, "--spp", 4, "--direct", "--estimator", "bsdf",
                          "--json")
     assert result.returncode == 0, result.stderr

@@ -1,5 +1,5 @@
 #version 430 core
-// Chapter 10: path tracing. Each dispatch adds one sample to every pixel: a path from
+// Chapter 11: path tracing. Each dispatch adds one sample to every pixel: a path from
 // the camera that bounces off Lambertian surfaces in random directions, gathering the
 // light of every glowing surface it runs into. The image holds the running mean: linear
 // radiance.

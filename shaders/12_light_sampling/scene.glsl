@@ -1,8 +1,8 @@
-// The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list; the triangles' corners and normals in two
-// more, as in chapter 09. A ray tests every sphere and quad (a scene
-// has a few dozen), and finds its triangles (a mesh may have millions) through the
-// bounding volume hierarchy: bvh_traversal.glsl.
+// The scene: spheres, quads and triangles in storage buffers, each with a material
+// and, if it glows, its place in the emitter list;
+// the triangles' corners and normals in two more, as in chapter 09. Every ray tests
+// every shape (chapter 13's BVH does better); the Cornell scenes have a few dozen
+// shapes, the gems ~200.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
@@ -62,18 +62,6 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t) {
 // Chapter 09's triangles: hitTriangle, smoothNormal, triangleHit.
 #include "triangle.glsl"
 
-// --8<-- [start:bvh_interface]
-// What bvh_traversal.glsl asks for: triangle `index` of the buffer, which the host
-// filled in the tree's leaf order, and where on it (uv, for the smooth normal).
-bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out vec2 uv) {
-    return hitTriangle(ray, cornersOf(triangles[index]), tMin, tMax, t, uv);
-}
-#include "bvh_traversal.glsl"
-
-// --brute-force (bruteForce in the PathParameters block, shared.h): test every
-// triangle, as chapter 11 does.
-// --8<-- [end:bvh_interface]
-
 // Fills in a hit on a sphere or a quad from its front normal, material and emitter:
 // the same normal to shade with and to tell the sides apart.
 Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
@@ -87,7 +75,7 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
-    vec2 uv, hitUv;
+    vec2 barycentric, hitBarycentric;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -96,20 +84,10 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         if (hitQuad(ray, quads[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
-    // The triangles: the tree finds the nearest one nearer than tMax (the nearest
-    // sphere or quad so far), or brute force tries them all.
-    if (bruteForce != 0u) {
-        for (int i = 0; i < triangles.length(); ++i)
-            if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) {
-                tMax = t; kind = SHAPE_TRIANGLE; index = i; hitUv = uv;
-            }
-        bvhLoopIterations += uint(triangles.length());  // for --view cost
-    } else {
-        uint triangle;
-        if (bvhNearestHit(ray, tMin, tMax, triangle, t, uv)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle); hitUv = uv;
+    for (int i = 0; i < triangles.length(); ++i)
+        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric)) {
+            tMax = t; kind = SHAPE_TRIANGLE; index = i; hitBarycentric = barycentric;
         }
-    }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
         Sphere s = spheres[index];
@@ -119,7 +97,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         Quad q = quads[index];
         hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
-        hit = triangleHit(ray, tMax, hitUv, triangles[index]);
+        hit = triangleHit(ray, tMax, hitBarycentric, triangles[index]);
     }
     return kind >= 0;
 }
@@ -128,13 +106,12 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
-    vec2 uv;
+    vec2 barycentric;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
-    if (bruteForce == 0u) return bvhAnyHit(ray, tMin, tMax);
     for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) return true;
+        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric)) return true;
     return false;
 }

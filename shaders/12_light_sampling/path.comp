@@ -1,5 +1,5 @@
 #version 430 core
-// Chapter 11: light sampling. Each dispatch adds one sample to every pixel: a path from
+// Chapter 12: light sampling. Each dispatch adds one sample to every pixel: a path from
 // the camera that bounces off Lambertian surfaces, gathering the light of the area
 // lights it finds (by hitting them, by aiming shadow rays at them, or both, weighted by
 // multiple importance sampling). The image holds the running mean: linear radiance.
@@ -43,7 +43,7 @@ vec3 lightFromEmitters(Hit hit, inout RandomState random, inout uint rays) {
     float cosSurface = dot(hit.normal, direction);
     float cosLight = -dot(light.normal, direction);
     if (cosSurface <= 0.0 || cosLight <= 0.0) return vec3(0.0);  // behind one or other
-    // Under the surface itself: BSDF sampling ends such paths (chapter 10), so must this.
+    // Under the surface itself: BSDF sampling ends such paths (chapter 11), so must this.
     if (dot(hit.geometricNormal, direction) <= 0.0) return vec3(0.0);
     rays += 1u;
     // Stop short of the light by the same kind of gap, or the light itself is in the way.
@@ -82,7 +82,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         }
         // A surface's back is black (as Mitsuba's diffuse); --depth ends the path.
         if (!hit.front || bounce == maxBounces) break;
-        // So is a front whose smooth normal faces away from the ray (chapter 10).
+        // So is a front whose smooth normal faces away from the ray (chapter 11).
         if (dot(hit.normal, ray.direction) >= 0.0) break;
 
         // 2. Light from the emitters straight to this point (next-event estimation).
@@ -93,7 +93,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         // 3. The next direction, by cosine sampling: (albedo / pi) cos / (cos / pi) is
         //    the albedo, so the throughput only picks up the surface's colour.
         vec3 direction = cosineSampleHemisphere(hit.normal, random2(random));
-        if (dot(direction, hit.geometricNormal) <= 0.0) break;  // under it (chapter 10)
+        if (dot(direction, hit.geometricNormal) <= 0.0) break;  // under it (chapter 11)
         directionPdf = max(dot(hit.normal, direction), 0.0) / PI;
         throughput *= albedo;
 

@@ -1,6 +1,6 @@
-"""Chapter 12: the bounding volume hierarchy. The tree must change nothing but the
+"""Chapter 13: the bounding volume hierarchy. The tree must change nothing but the
 speed: its images are compared with brute force (the same program with --brute-force,
-and chapter 11, a different program that tests every shape) pixel for pixel, for camera
+and chapter 12, a different program that tests every shape) pixel for pixel, for camera
 rays, random bounce rays and whole paths; a million-triangle teapot, which brute force
 cannot draw where the GL limits loops (Mesa 22's llvmpipe), is compared with a numpy
 ray caster on a sample of pixels. The builder's invariants are ctest's
@@ -53,10 +53,10 @@ TEAPOT_6320 = "mesh meshes/teapot_6320.obj white scale 0.28 rotate_y -30 transla
 def test_camera_rays_hit_the_same_triangles_as_brute_force(tmp_path, mesh, view):
     scene = room_with(tmp_path, mesh)
     common = ["--scene", scene, "--width", 64, "--height", 64, "--spp", 1, "--view", view]
-    tree = render(tmp_path, "12", "tree", *common)
-    brute = render(tmp_path, "12", "brute", *common, "--brute-force")
+    tree = render(tmp_path, "13", "tree", *common)
+    brute = render(tmp_path, "13", "brute", *common, "--brute-force")
     # The teapot covers a good part of the picture (not an empty test) ...
-    background = render(tmp_path, "12", "room", "--scene", SCENES / "cornell_room.scene",
+    background = render(tmp_path, "13", "room", "--scene", SCENES / "cornell_room.scene",
                         *common[2:])
     assert np.mean(np.any(tree != background, axis=-1)) > 0.05
     # ... and every pixel is the same float: the same triangle at the same distance.
@@ -79,7 +79,7 @@ PLANTED_BUGS = {
 
 @pytest.mark.parametrize("bug", PLANTED_BUGS)
 def test_the_comparison_catches_a_planted_traversal_bug(tmp_path, bug):
-    shaders = copy_shaders("12", tmp_path / "shaders")
+    shaders = copy_shaders("13", tmp_path / "shaders")
     traversal = shaders / "bvh_traversal.glsl"
     original, planted = PLANTED_BUGS[bug]
     text = traversal.read_text()
@@ -88,8 +88,8 @@ def test_the_comparison_catches_a_planted_traversal_bug(tmp_path, bug):
     scene = room_with(tmp_path, TEAPOT_6320)
     common = ["--scene", scene, "--width", 64, "--height", 64, "--spp", 1, "--view",
               "distance"]
-    buggy = render(tmp_path, "12", "buggy", *common, "--shader-dir", shaders)
-    brute = render(tmp_path, "12", "brute", *common, "--brute-force")
+    buggy = render(tmp_path, "13", "buggy", *common, "--shader-dir", shaders)
+    brute = render(tmp_path, "13", "brute", *common, "--brute-force")
     assert not np.array_equal(buggy, brute), bug
 
 
@@ -99,8 +99,8 @@ def test_random_bounce_rays_find_the_same_hits(tmp_path):
     scene = room_with(tmp_path, TEAPOT_552)
     common = ["--scene", scene, "--width", 48, "--height", 48, "--spp", 6, "--view",
               "bounce"]
-    tree = render(tmp_path, "12", "tree", *common)
-    brute = render(tmp_path, "12", "brute", *common, "--brute-force")
+    tree = render(tmp_path, "13", "tree", *common)
+    brute = render(tmp_path, "13", "brute", *common, "--brute-force")
     assert 0.2 < tree.mean() < 0.95  # some rays blocked, some open
     assert np.array_equal(tree, brute)
 
@@ -108,8 +108,8 @@ def test_random_bounce_rays_find_the_same_hits(tmp_path):
 def test_paths_are_the_same_as_brute_force(tmp_path):
     scene = room_with(tmp_path, TEAPOT_552)
     common = ["--scene", scene, "--width", 32, "--height", 32, "--spp", 4, "--depth", 6]
-    tree = render(tmp_path, "12", "tree", *common)
-    brute = render(tmp_path, "12", "brute", *common, "--brute-force")
+    tree = render(tmp_path, "13", "tree", *common)
+    brute = render(tmp_path, "13", "brute", *common, "--brute-force")
     assert np.array_equal(tree, brute)
 
 
@@ -118,13 +118,13 @@ def test_paths_are_the_same_as_brute_force(tmp_path):
     ("cornell_box.scene", ["--spp", 4]),                   # quads only: an empty tree
     ("cornell_teapot.scene", ["--spp", 2, "--direct"]),    # 6 320 facets, direct light
 ], ids=["gems", "box", "teapot_direct"])
-def test_same_picture_as_chapter_11(tmp_path, scene, args):
-    # Chapter 11 is a different program: it tests every shape, triangles in file order.
+def test_same_picture_as_chapter_12(tmp_path, scene, args):
+    # Chapter 12 is a different program: it tests every shape, triangles in file order.
     # The tree reorders the triangles (and the emitters that point at them), and must
     # still give every path the same hits and the same light.
     common = ["--scene", SCENES / scene, "--width", 40, "--height", 40, *args]
-    ours = render(tmp_path, "12", "tree", *common)
-    theirs = render(tmp_path, "11", "eleven_nee", *common)
+    ours = render(tmp_path, "13", "tree", *common)
+    theirs = render(tmp_path, "12", "eleven_nee", *common)
     assert np.array_equal(ours, theirs), np.abs(ours - theirs).max()
 
 
@@ -158,7 +158,7 @@ def numpy_room_hits(origin, directions, scene):
 
 def test_a_million_triangles_against_a_numpy_ray_caster(tmp_path):
     # The teapot at 126 x 126 cells per patch: 1 015 056 triangles, written by the same
-    # tessellator that chapter 12's benchmark uses; numpy keeps its own copy of them.
+    # tessellator that chapter 13's benchmark uses; numpy keeps its own copy of them.
     segments = 126
     patches, control_points = teapot.load_patches()
     positions, _, triangles = teapot.tessellate(patches, control_points, segments)
@@ -169,7 +169,7 @@ def test_a_million_triangles_against_a_numpy_ray_caster(tmp_path):
                                      "translate 0 -1 0")
 
     size = 48
-    result = run_chapter("12", "--headless", "--scene", scene_path, "--width", size,
+    result = run_chapter("13", "--headless", "--scene", scene_path, "--width", size,
                          "--height", size, "--spp", 1, "--view", "distance", "--out",
                          tmp_path / "distance.pfm", "--json")
     assert result.returncode == 0, result.stderr
@@ -207,7 +207,7 @@ def test_a_million_triangles_against_a_numpy_ray_caster(tmp_path):
 # --- What it reports, and what it refuses ----------------------------------------------
 
 def test_json_and_verbose_describe_the_tree():
-    result = run_chapter("12", "--headless", "--width", 16, "--height", 16, "--spp", 1,
+    result = run_chapter("13", "--headless", "--width", 16, "--height", 16, "--spp", 1,
                          "--out", "teapot.png", "--json", "--verbose")
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
@@ -228,12 +228,12 @@ def test_brute_force_is_refused_where_the_loop_limit_would_cut_it_short(tmp_path
     # Where the GL ends loops sooner (as the chapter measures: Mesa 22's llvmpipe),
     # brute force is refused; where it has no limit, it draws the tree's picture.
     common = ["--width", 16, "--height", 16, "--spp", 1]
-    tree = render(tmp_path, "12", "tree", *common)  # the tree renders it anyway
-    limit = loop_limit("12")
+    tree = render(tmp_path, "13", "tree", *common)  # the tree renders it anyway
+    limit = loop_limit("13")
     if limit is None:
-        assert np.array_equal(render(tmp_path, "12", "brute", *common, "--brute-force"), tree)
+        assert np.array_equal(render(tmp_path, "13", "brute", *common, "--brute-force"), tree)
         return
-    result = run_chapter("12", "--headless", *map(str, common), "--out", "teapot.png",
+    result = run_chapter("13", "--headless", *map(str, common), "--out", "teapot.png",
                          "--brute-force")
     assert result.returncode == 4, result.stderr
     for words in ("cornell_teapot.scene", f"after {limit} (measured)", "Without --brute-force"):
@@ -245,8 +245,8 @@ def test_obj_stands_in_the_room(tmp_path):
     # --obj: the mesh on the floor of the empty room, in the middle, half as wide.
     common = ["--width", 48, "--height", 48, "--spp", 1, "--view", "distance"]
     mesh = ROOT / "build" / "assets" / "meshes" / "teapot_552.obj"
-    with_mesh = render(tmp_path, "12", "obj", "--obj", mesh, *common)
-    empty = render(tmp_path, "12", "room", "--scene", SCENES / "cornell_room.scene", *common)
+    with_mesh = render(tmp_path, "13", "obj", "--obj", mesh, *common)
+    empty = render(tmp_path, "13", "room", "--scene", SCENES / "cornell_room.scene", *common)
     nearer = with_mesh[..., 0] < empty[..., 0] - 1e-4
     assert nearer.mean() > 0.02  # 1 m wide, 2.2 m inside a 3.9 m deep view
     rows, cols = np.nonzero(nearer)
@@ -258,7 +258,7 @@ def test_obj_stands_in_the_room(tmp_path):
 def test_obj_errors_name_the_file_and_line(tmp_path):
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")
-    result = run_chapter("12", "--headless", "--obj", bad, "--out", tmp_path / "x.png")
+    result = run_chapter("13", "--headless", "--obj", bad, "--out", tmp_path / "x.png")
     assert result.returncode == 3
     assert f"{bad}:4" in result.stderr
     assert not (tmp_path / "x.png").exists()
@@ -272,7 +272,7 @@ def test_smooth_teapot_agrees_with_mitsuba(tmp_path):
     cornell_teapot (the walls, the light, the teapot) within 2% of Mitsuba 3's mean,
     and within 4.5 standard errors of the two renders' noise."""
     size = 48
-    ours = render(tmp_path, "12", "teapot", "--width", size, "--height", size,
+    ours = render(tmp_path, "13", "teapot", "--width", size, "--height", size,
                   "--spp", 1024, "--depth", 6)
     compared = path_checks.assert_agrees_with_mitsuba(
         ours, 1024, SCENES / "cornell_teapot.scene", [ROOT / "build" / "assets"],
@@ -312,7 +312,7 @@ def test_the_teapot_is_shaded_with_its_blended_normals(tmp_path):
     the hit's barycentric weights, not the facet's own, which differs by degrees."""
     scene_path = room_with(tmp_path, TEAPOT_552)
     size = 48
-    gpu = render(tmp_path, "12", "normals", "--scene", scene_path, "--width", size,
+    gpu = render(tmp_path, "13", "normals", "--scene", scene_path, "--width", size,
                  "--height", size, "--spp", 1, "--view", "normals") * 2.0 - 1.0
     scene = scene_io.load_scene(scene_path, [ROOT / "build" / "assets"])
     mesh = scene.meshes[0]

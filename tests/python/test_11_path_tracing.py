@@ -1,7 +1,7 @@
-"""Chapter 10: path tracing by BSDF (cosine) sampling, checked with statistics
+"""Chapter 11: path tracing by BSDF (cosine) sampling, checked with statistics
 (book/docs/maintainers.md): white furnaces, direct light with a closed form, error
 falling like 1/sqrt(spp), reproducible bytes, Mitsuba 3 region by region, window mode
-and bad scene files. (Chapter 11's light sampling has checks of its own.)
+and bad scene files. (Chapter 12's light sampling has checks of its own.)
 
 The limits and why: tests/python/path_checks.py."""
 
@@ -24,7 +24,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 
 def path_trace(tmp_path, name: str, *args) -> np.ndarray:
-    return path_checks.path_trace("10", tmp_path, name, *args)
+    return path_checks.path_trace("11", tmp_path, name, *args)
 
 
 # --- White furnaces -------------------------------------------------------------------
@@ -97,7 +97,7 @@ def test_same_seed_gives_identical_bytes_and_another_seed_does_not(tmp_path):
     runs = []
     for name, seed in [("a", 7), ("b", 7), ("c", 8)]:
         out = tmp_path / f"{name}.pfm"
-        result = run_chapter("10", "--headless", "--out", out, "--width", 24, "--height", 24,
+        result = run_chapter("11", "--headless", "--out", out, "--width", 24, "--height", 24,
                              "--spp", 8, "--seed", seed)
         assert result.returncode == 0, result.stderr
         runs.append(out.read_bytes())
@@ -112,7 +112,7 @@ def test_splitting_the_samples_across_dispatches_changes_nothing(tmp_path):
     outputs = []
     for batches in (1, 4):
         out = tmp_path / f"split{batches}.pfm"
-        result = run_chapter("10", "--headless", "--out", out, "--width", 24, "--height", 24,
+        result = run_chapter("11", "--headless", "--out", out, "--width", 24, "--height", 24,
                              "--spp", 64, "--batches", batches)
         assert result.returncode == 0, result.stderr
         outputs.append(out.read_bytes())
@@ -120,7 +120,7 @@ def test_splitting_the_samples_across_dispatches_changes_nothing(tmp_path):
 
 
 def test_json_counts_rays(tmp_path):
-    result = run_chapter("10", "--headless", "--out", tmp_path / "x.pfm", "--width", 16,
+    result = run_chapter("11", "--headless", "--out", tmp_path / "x.pfm", "--width", 16,
                          "--height", 16, "--spp", 4, "--direct", "--json")
     assert result.returncode == 0, result.stderr
     stats = json.loads(result.stdout.strip().splitlines()[-1])
@@ -170,14 +170,14 @@ def test_bad_scene_file_is_exit_3_with_file_and_line(tmp_path, text, line, messa
     scene = tmp_path / "bad.scene"
     scene.write_text(text)
     out = tmp_path / "x.png"
-    result = run_chapter("10", "--headless", "--scene", scene, "--out", out)
+    result = run_chapter("11", "--headless", "--scene", scene, "--out", out)
     assert result.returncode == 3, result.stderr
     assert f"{scene}:{line}:" in result.stderr and message in result.stderr
     assert not out.exists()
 
 
 def test_unknown_scene_name_names_the_path_tried(tmp_path):
-    result = run_chapter("10", "--headless", "--scene", "no_such_room", "--out",
+    result = run_chapter("11", "--headless", "--scene", "no_such_room", "--out",
                          tmp_path / "x.png")
     assert result.returncode == 2  # bad usage, like any unknown option value
     assert "no_such_room.scene" in result.stderr
@@ -188,7 +188,7 @@ def test_unknown_scene_name_names_the_path_tried(tmp_path):
 @pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 def test_window_refines_and_a_camera_move_starts_over(tmp_path, window_env):
     out = tmp_path / "window.pfm"
-    result = subprocess.run(window_command("10", out, "--frames", 40, "--script-camera-move"),
+    result = subprocess.run(window_command("11", out, "--frames", 40, "--script-camera-move"),
                             capture_output=True, text=True, timeout=WINDOW_SAFETY_TIMEOUT,
                             env=window_env)
     assert result.returncode == 0, result.stderr
@@ -201,7 +201,7 @@ def test_window_refines_and_a_camera_move_starts_over(tmp_path, window_env):
 
 @pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path, window_env):
-    image = check_hot_reload("10", copy_shaders("10", tmp_path), "path.comp",
+    image = check_hot_reload("11", copy_shaders("11", tmp_path), "path.comp",
                              ("pixels[index] = vec4(mean, 1.0);",
                               "pixels[index] = vec4(0.25, 0.5, 0.75, 1.0);"),
                              tmp_path / "window.pfm", env=window_env)

@@ -1,7 +1,7 @@
-// Chapter 10: path tracing. Light bounces: a surface is lit by the lights and by every
-// other surface. Each pixel averages random light paths from the camera (Monte Carlo),
-// one per dispatch, and the picture converges to the solution of the rendering equation.
-// A path finds light only by running into it; chapter 11 aims at the lights as well.
+// Chapter 12: light sampling. Chapter 11's paths find a light only by running into it,
+// which a small light makes rare and noisy. Here each bounce also aims a shadow ray at
+// a point picked on a light (next-event estimation), the two ways are weighted by
+// multiple importance sampling, and Russian roulette ends paths that carry little.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -27,13 +27,16 @@ std::string scenePath(course::Session& session, const std::string& scene) {
 }
 
 int main(int argc, char** argv) {
-    course::CommandLine cli("Chapter 10: path tracing by Monte Carlo, with cosine sampling");
+    course::CommandLine cli("Chapter 12: path tracing with next-event estimation and MIS");
     cli.acceptScene();  // --scene NAME|FILE, default cornell_spheres
     int depth = 6, batches = 1;
     cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
                1, 1000);
     bool direct = false;
     cli.flag("--direct", "direct illumination only: the same as --depth 1", &direct);
+    std::string estimator = "mis";
+    cli.choice("--estimator", "how light reaching a surface is found",
+               {"nee", "bsdf", "mis"}, &estimator);
     cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
                "the GPU between them (the same image)", &batches, 1, 1 << 20);
     bool scriptCameraMove = false;
@@ -50,13 +53,14 @@ int main(int argc, char** argv) {
         course::SceneFile sceneFile = course::loadSceneFile(
             scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
-        // The camera ray and each bounce loop over every shape: a GL's loop limit caps
-        // shapes x bounces (chapter 07).
+        // The camera ray and each bounce loop over every shape twice (nearest hit,
+        // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07).
         course::checkLoopBudget({sceneFile.path, scene.shapeCount(),
                                  "shapes at --depth " + std::to_string(depth),
-                                 size_t(depth) + 1,
-                                 "A lower --depth, or chapter 12's BVH, renders it."});
+                                 2 * (size_t(depth) + 1),
+                                 "A lower --depth, or chapter 13's BVH, renders it."});
         session.stats().set("shapes", double(scene.shapeCount()));
+        session.stats().set("emitters", double(scene.emitters.size()));
 
         // --8<-- [start:upload]
         // 2. Storage buffers: the scene (the triangles' corners and normals as in
@@ -68,6 +72,7 @@ int main(int argc, char** argv) {
         auto positions = course::GpuBuffer::fromVector(scene.positions);
         auto normals = course::GpuBuffer::fromVector(scene.normals);
         auto materials = course::GpuBuffer::fromVector(scene.materials);
+        auto emitters = course::GpuBuffer::fromVector(scene.emitters);
         course::ImageBuffer image(width, height);
         course::GpuBuffer randomStates(size_t(width) * height * sizeof(glm::uvec4));
         course::GpuBuffer rayCounts(size_t(width) * height * sizeof(uint32_t));
@@ -77,6 +82,7 @@ int main(int argc, char** argv) {
         positions.bindStorage(POSITIONS_BINDING);
         normals.bindStorage(NORMALS_BINDING);
         materials.bindStorage(MATERIALS_BINDING);
+        emitters.bindStorage(EMITTERS_BINDING);
         image.pixels.bindStorage(PIXELS_BINDING);
         randomStates.bindStorage(RANDOM_BINDING);
         rayCounts.bindStorage(RAY_COUNT_BINDING);
@@ -95,6 +101,9 @@ int main(int argc, char** argv) {
         parameters.imageSize = glm::uvec2(width, height);
         parameters.seed = options.seed;
         parameters.maxBounces = depth;
+        parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF
+                                                     : ESTIMATOR_MIS;
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;
