@@ -1,14 +1,12 @@
 // Scenes from text files (chapters 11, 12, 13 and the appendix). The file is read whole and
-// walked line by line, as the OBJ loader does (chapter 07); each statement is checked
-// as it is read, and what needs the whole file (materials used before their line, the
-// camera, an emitter) is checked at the end.
+// walked line by line with course/text_file.h, as the OBJ loader of chapter 07 is; each
+// statement is checked as it is read, and what needs the whole file (materials used
+// before their line, the camera, an emitter) is checked at the end.
 #include "course/scene_file.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <system_error>
 #include <unordered_map>
 #include <utility>
@@ -75,14 +73,9 @@ public:
         scene_.path = path_;
     }
 
+    // One line, its comment already cut off (course::forEachLine).
     void readLine(std::string_view line, size_t lineNumber) {
         lineNumber_ = lineNumber;
-        // Before anything else: a NUL or other control byte means this is no text file.
-        for (char c : line)
-            if (isControlByte(c))
-                fail("binary data (a control byte) in what should be a text file");
-        line = line.substr(0, line.find('#'));  // a comment runs to the end of the line
-
         Words words;
         for (std::string_view word = nextWord(line); !word.empty(); word = nextWord(line)) {
             if (words.size() == kMostWords)
@@ -132,33 +125,15 @@ public:
     }
 
     [[noreturn]] void failAt(size_t lineNumber, const std::string& what) const {
-        course::fail(ExitCode::BadInput,
-                     path_ + ":" + std::to_string(lineNumber) + ": " + what);
+        failAtLine(path_, lineNumber, what);
     }
 
 private:
     [[noreturn]] void fail(const std::string& what) const { failAt(lineNumber_, what); }
 
-    // --8<-- [start:number]
     float readNumber(std::string_view word) const {
-        std::string_view digits = word;
-        if (digits.size() > 1 && digits[0] == '+')  // from_chars refuses a leading '+'
-            digits.remove_prefix(1);
-        double value = 0.0;
-        const char* end = digits.data() + digits.size();
-        const auto [stop, error] = std::from_chars(digits.data(), end, value);
-        if (error == std::errc::result_out_of_range)
-            fail(inQuotes(word) + " is out of range for a number");
-        if (error != std::errc() || stop != end)
-            fail(inQuotes(word) + " is not a number");
-        // from_chars accepts "nan" and "inf": numbers, but no place in a scene.
-        if (!std::isfinite(value))
-            fail(inQuotes(word) + " is not a finite number");
-        if (std::fabs(value) > std::numeric_limits<float>::max())
-            fail(inQuotes(word) + " is too large for a float");
-        return float(value);
+        return course::readNumber(word, path_, lineNumber_);
     }
-    // --8<-- [end:number]
 
     glm::vec3 readVector(const Words& words, size_t first) const {
         return {readNumber(words[first]), readNumber(words[first + 1]),
@@ -486,16 +461,9 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders,
                          AcceptedMaterials accepted) {
     SceneParser parser(shownPath, meshFolders, accepted);
-    if (text.empty())
-        parser.failAt(0, "empty file");
-    if (text.substr(0, 3) == "\xEF\xBB\xBF")
-        text.remove_prefix(3);  // a UTF-8 byte order mark, written by some Windows tools
-    size_t lineNumber = 0;
-    while (!text.empty()) {
-        const size_t newline = text.find('\n');
-        parser.readLine(text.substr(0, newline), ++lineNumber);
-        text.remove_prefix(newline == std::string_view::npos ? text.size() : newline + 1);
-    }
+    forEachLine(text, shownPath, [&parser](std::string_view line, size_t lineNumber) {
+        parser.readLine(line, lineNumber);
+    });
     return parser.finish();
 }
 

@@ -1,9 +1,12 @@
 #include "course/text_file.h"
 
 #include <cerrno>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include "course/error.h"
@@ -38,6 +41,57 @@ std::string inQuotes(std::string_view word) {
         return "'" + std::string(word) + "'";
     return "'" + std::string(word.substr(0, kShown)) + "...'";
 }
+
+void failAtLine(const std::string& path, size_t line, const std::string& what) {
+    fail(ExitCode::BadInput, path + ":" + std::to_string(line) + ": " + what);
+}
+
+void forEachLine(std::string_view text, const std::string& path,
+                 const std::function<void(std::string_view line, size_t lineNumber)>& readLine) {
+    if (text.empty())
+        failAtLine(path, 0, "empty file");
+    if (text.substr(0, 3) == "\xEF\xBB\xBF")
+        text.remove_prefix(3);  // a UTF-8 byte order mark, written by some Windows tools
+    size_t lineNumber = 0;
+    while (!text.empty()) {
+        const size_t newline = text.find('\n');
+        const std::string_view line = text.substr(0, newline);
+        text.remove_prefix(newline == std::string_view::npos ? text.size() : newline + 1);
+        ++lineNumber;
+        // Before anything else: a NUL or other control byte means this is no text file.
+        for (char c : line)
+            if (isControlByte(c))
+                failAtLine(path, lineNumber,
+                           "binary data (a control byte) in what should be a text file");
+        readLine(line.substr(0, line.find('#')), lineNumber);  // a comment runs to the end
+    }
+}
+
+// --8<-- [start:number]
+float readNumber(std::string_view word, const std::string& path, size_t lineNumber) {
+    auto refuse = [&](const char* why) {  // throws: the mistake is named, nothing returned
+        failAtLine(path, lineNumber, inQuotes(word) + why);
+    };
+    // from_chars reads the whole word or tells us where it stopped; it refuses a leading
+    // '+', which some exporters write.
+    std::string_view digits = word;
+    if (digits.size() > 1 && digits[0] == '+')
+        digits.remove_prefix(1);
+    double value = 0.0;
+    const char* end = digits.data() + digits.size();
+    const auto [stop, error] = std::from_chars(digits.data(), end, value);
+    if (error == std::errc::result_out_of_range)
+        refuse(" is out of range for a number");
+    if (error != std::errc() || stop != end)
+        refuse(" is not a number");
+    // from_chars accepts "nan" and "inf": valid numbers, but no place in a mesh or scene.
+    if (!std::isfinite(value))
+        refuse(" is not a finite number");
+    if (std::fabs(value) > std::numeric_limits<float>::max())
+        refuse(" is too large for a float");
+    return float(value);
+}
+// --8<-- [end:number]
 
 std::string absolutePath(const std::string& path) {
     std::error_code error;

@@ -4,20 +4,15 @@
 #include "obj_loader.h"
 
 #include <charconv>
-#include <cmath>
-#include <limits>
 #include <string_view>
 #include <system_error>
 #include <utility>
 
-#include "course/error.h"
-#include "course/text_file.h"  // reading the file whole, words, quoting in messages
+#include "course/text_file.h"  // the file whole, its lines, words and numbers, messages
 
 namespace {
 
-using course::ExitCode;
 using course::inQuotes;
-using course::isControlByte;
 using course::isDigit;
 using course::isLetter;
 using course::nextWord;
@@ -26,10 +21,6 @@ using course::nextWord;
 constexpr size_t kMostElements = size_t(1) << 31;
 // 4 GiB of text is about 50 million triangles: far more than any scene here needs.
 constexpr std::uintmax_t kMostBytes = std::uintmax_t(4) << 30;
-
-// ---------------------------------------------------------------------------------------
-// Characters and words
-// ---------------------------------------------------------------------------------------
 
 // Statement names are words such as v, usemtl, curv2 or trace_obj. A first word made of
 // anything else is not an OBJ statement: most likely the file is not an OBJ file.
@@ -41,10 +32,6 @@ bool looksLikeKeyword(std::string_view word) {
             return false;
     return true;
 }
-
-// ---------------------------------------------------------------------------------------
-// The parser
-// ---------------------------------------------------------------------------------------
 
 // One face corner as written (v, v/vt, v//vn or v/vt/vn), resolved to 0-based indices.
 struct Corner {
@@ -58,14 +45,9 @@ public:
     explicit ObjParser(std::string shownPath) : path_(std::move(shownPath)) {}
 
     // --8<-- [start:line]
+    // One line, its comment already cut off (course::forEachLine).
     void readLine(std::string_view line, size_t lineNumber) {
         lineNumber_ = lineNumber;
-        // Before anything else: a NUL or other control byte means this is no text file.
-        for (char c : line)
-            if (isControlByte(c))
-                fail("binary data (a control byte) in what should be a text file");
-        line = line.substr(0, line.find('#'));  // a comment runs to the end of the line
-
         const std::string_view keyword = nextWord(line);
         if (keyword.empty())
             return;  // a blank line, or only a comment
@@ -85,7 +67,7 @@ public:
 
     Mesh finish() {
         if (mesh_.positionIndices.empty())
-            failAt(0, "no faces: the file has no 'f' line");
+            course::failAtLine(path_, 0, "no faces: the file has no 'f' line");
         // Normals are all or nothing. If some corner has none, the whole mesh goes
         // without file normals (chapter 08 then computes its own) rather than
         // mixing two kinds of shading in one picture.
@@ -94,24 +76,29 @@ public:
         return std::move(mesh_);
     }
 
-    [[noreturn]] void failAt(size_t lineNumber, const std::string& what) const {
-        course::fail(ExitCode::BadInput,
-                     path_ + ":" + std::to_string(lineNumber) + ": " + what);
+private:
+    [[noreturn]] void fail(const std::string& what) const {
+        course::failAtLine(path_, lineNumber_, what);
     }
 
-private:
-    [[noreturn]] void fail(const std::string& what) const { failAt(lineNumber_, what); }
+    // --8<-- [start:vector]
+    // The numbers after `v` or `vn`: the first three go into xyz; returns how many.
+    size_t readVector(std::string_view rest, glm::vec3& xyz) const {
+        size_t count = 0;
+        for (std::string_view word = nextWord(rest); !word.empty(); word = nextWord(rest)) {
+            const float value = course::readNumber(word, path_, lineNumber_);
+            if (count < 3)
+                xyz[int(count)] = value;
+            ++count;
+        }
+        return count;
+    }
+    // --8<-- [end:vector]
 
     // `v x y z`: a 4th number (w) or an r g b colour after x y z is read and ignored.
     void readPosition(std::string_view rest) {
         glm::vec3 position(0.0f);
-        size_t count = 0;
-        for (std::string_view word = nextWord(rest); !word.empty(); word = nextWord(rest)) {
-            const float value = readNumber(word);
-            if (count < 3)
-                position[int(count)] = value;
-            ++count;
-        }
+        const size_t count = readVector(rest, position);
         if (count < 3)
             fail("'v' needs 3 numbers, got " + std::to_string(count));
         if (mesh_.positions.size() >= kMostElements)
@@ -122,42 +109,13 @@ private:
     // `vn x y z`: exactly three numbers.
     void readNormal(std::string_view rest) {
         glm::vec3 normal(0.0f);
-        size_t count = 0;
-        for (std::string_view word = nextWord(rest); !word.empty(); word = nextWord(rest)) {
-            const float value = readNumber(word);
-            if (count < 3)
-                normal[int(count)] = value;
-            ++count;
-        }
+        const size_t count = readVector(rest, normal);
         if (count != 3)
             fail("'vn' needs 3 numbers, got " + std::to_string(count));
         if (mesh_.normals.size() >= kMostElements)
             fail("too many normals (more than 2^31)");
         mesh_.normals.push_back(normal);
     }
-
-    // --8<-- [start:number]
-    float readNumber(std::string_view word) const {
-        // from_chars reads the whole word or tells us where it stopped; it refuses a
-        // leading '+', which some exporters write.
-        std::string_view digits = word;
-        if (digits.size() > 1 && digits[0] == '+')
-            digits.remove_prefix(1);
-        double value = 0.0;
-        const char* end = digits.data() + digits.size();
-        const auto [stop, error] = std::from_chars(digits.data(), end, value);
-        if (error == std::errc::result_out_of_range)
-            fail(inQuotes(word) + " is out of range for a number");
-        if (error != std::errc() || stop != end)
-            fail(inQuotes(word) + " is not a number");
-        // from_chars accepts "nan" and "inf": valid numbers, but no place in a mesh.
-        if (!std::isfinite(value))
-            fail(inQuotes(word) + " is not a finite number");
-        if (std::fabs(value) > std::numeric_limits<float>::max())
-            fail(inQuotes(word) + " is too large for a float");
-        return float(value);
-    }
-    // --8<-- [end:number]
 
     // --8<-- [start:index]
     // OBJ indices start at 1; negative ones count back from the elements read so far
@@ -249,21 +207,12 @@ private:
 
 // --8<-- [start:load]
 Mesh loadObj(const std::string& path) {
-    const std::string shownPath = course::absolutePath(path);
+    const std::string shownPath = course::absolutePath(path);  // messages name it
     const std::string text = course::readWholeFile(path, kMostBytes, "an OBJ file");
     ObjParser parser(shownPath);
-    if (text.empty())
-        parser.failAt(0, "empty file");
-
-    std::string_view rest = text;
-    if (rest.substr(0, 3) == "\xEF\xBB\xBF")
-        rest.remove_prefix(3);  // a UTF-8 byte order mark, written by some Windows tools
-    size_t lineNumber = 0;
-    while (!rest.empty()) {
-        const size_t newline = rest.find('\n');
-        parser.readLine(rest.substr(0, newline), ++lineNumber);
-        rest.remove_prefix(newline == std::string_view::npos ? rest.size() : newline + 1);
-    }
+    course::forEachLine(text, shownPath, [&parser](std::string_view line, size_t lineNumber) {
+        parser.readLine(line, lineNumber);
+    });
     return parser.finish();
 }
 // --8<-- [end:load]
