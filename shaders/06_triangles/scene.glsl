@@ -6,6 +6,11 @@ layout(std430, binding = TRIANGLES_BINDING) readonly buffer Triangles {
     Triangle triangles[];
 };
 
+// A triangle's corners: the xyz of the stored vec4s (shared.h says why vec4).
+Corners cornersOf(Triangle triangle) {
+    return Corners(triangle.p0.xyz, triangle.p1.xyz, triangle.p2.xyz);
+}
+
 // --8<-- [start:nearest]
 // The nearest surface along the ray, between tMin and tMax.
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
@@ -20,10 +25,11 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         }
     }
     for (int i = 0; i < triangles.length(); ++i) {
+        Corners corners = cornersOf(triangles[i]);
         float t;
         vec2 barycentric;
-        if (hitTriangle(ray, triangles[i], tMin, hit.t, t, barycentric)) {
-            hit = triangleHit(ray, t, barycentric, triangles[i]);
+        if (hitTriangle(ray, corners, tMin, hit.t, t, barycentric)) {
+            hit = triangleHit(ray, t, barycentric, corners, triangles[i].albedo.rgb);
             found = true;
         }
     }
@@ -40,7 +46,8 @@ bool anyHit(Ray ray, float tMin, float tMax) {
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, triangles[i], tMin, tMax, t, barycentric)) return true;
+        if (hitTriangle(ray, cornersOf(triangles[i]), tMin, tMax, t, barycentric))
+            return true;
     return false;
 }
 // --8<-- [end:any_hit]
