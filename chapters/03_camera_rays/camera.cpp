@@ -5,7 +5,7 @@
 namespace {
 
 [[noreturn]] void badCamera(const std::string& message) {
-    course::fail(course::ExitCode::BadUsage, message + " (see --help)");
+    course::fail(course::ExitCode::BadUsage, "camera: " + message);
 }
 
 }  // namespace
@@ -13,16 +13,16 @@ namespace {
 // --8<-- [start:basis]
 Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
                   float sensorWidth) {
-    if (glm::length(look) == 0.0f) badCamera("--camera-look must not be zero");
-    if (glm::length(up) == 0.0f) badCamera("--camera-up must not be zero");
+    if (glm::length(look) == 0.0f) badCamera("the look direction must not be zero");
+    if (glm::length(up) == 0.0f) badCamera("the up direction must not be zero");
     if (!(focalLength > 0.0f) || !(sensorWidth > 0.0f))
-        badCamera("--focal-length and --sensor-width must be positive");
+        badCamera("focal length and sensor width must be positive");
     // BEGIN SOLUTION build an orthonormal basis from the look direction and up
     glm::vec3 forward = glm::normalize(look);
     glm::vec3 side = glm::cross(forward, up);
     // Looking straight along `up` leaves no way to tell right from left.
     if (glm::length(side) < 1e-6f * glm::length(up))
-        badCamera("--camera-up must not be parallel to --camera-look");
+        badCamera("up must not be parallel to the look direction");
     glm::vec3 right = glm::normalize(side);
     // `up` only had to point roughly upwards; this one is exactly perpendicular to
     // forward and right, and of unit length because they are.

@@ -41,16 +41,12 @@ int main(int argc, char** argv) {
         course::ShaderProgram& trace = session.loadCompute("trace.comp");
         setCamera(trace, camera);
         trace.set("imageSize", glm::uvec2(width, height));
-        // --8<-- [end:setup]
-
-        // --8<-- [start:light]
-        // 4. The light, and how far shadow rays start off the surface (shared.h).
         trace.set("lightPosition", scene.lightPosition);
         trace.set("shadowOffset", noShadowOffset ? 0.0f : float(SHADOW_OFFSET));
-        // --8<-- [end:light]
         trace.set("flipNormals", int(!noNormalFlip));  // two-sided triangles
+        // --8<-- [end:setup]
 
-        // 5. Trace, then write the PNG (headless) or show it (--window).
+        // 4. Trace, then write the PNG (headless) or show it (--window).
         auto render = [&] { trace.dispatchCovering(width, height); };
         session.timeRender(render);
         session.finish(image, render);

@@ -5,8 +5,8 @@
 #ifndef COURSE_SHARED_H
 #define COURSE_SHARED_H
 
-#define PIXELS_BINDING 0   // the image: one vec4 per pixel, row 0 at the top
-#define SPHERES_BINDING 1  // the scene's spheres
+#define PIXELS_BINDING 0     // the image: one vec4 per pixel, row 0 at the top
+#define SPHERES_BINDING 1    // the scene's spheres
 #define TRIANGLES_BINDING 2  // the scene's triangles
 
 // Shadow rays start this far (in metres) off the surface, along its normal: float32

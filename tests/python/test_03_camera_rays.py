@@ -87,9 +87,9 @@ def test_check_rejects_a_wrong_camera(tmp_path, mistake):
 BAD_CAMERAS = [
     (["--camera-eye", "nan,0,0"], "--camera-eye expects a finite number"),
     (["--camera-eye", "1,2"], "--camera-eye expects three numbers"),
-    (["--camera-look", "0,0,0"], "--camera-look must not be zero"),
-    (["--camera-up", "0,0,0"], "--camera-up must not be zero"),
-    (["--camera-look", "0,-2,0"], "--camera-up must not be parallel to --camera-look"),
+    (["--camera-look", "0,0,0"], "camera: the look direction must not be zero"),
+    (["--camera-up", "0,0,0"], "camera: the up direction must not be zero"),
+    (["--camera-look", "0,-2,0"], "camera: up must not be parallel to the look direction"),
     (["--focal-length", "0"], "must be positive"),
     (["--sensor-width", "inf"], "--sensor-width expects a finite number"),
 ]

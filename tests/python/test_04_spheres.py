@@ -86,4 +86,4 @@ def test_unknown_scene_is_exit_2_with_the_names(tmp_path):
 def test_bad_camera_is_exit_2(tmp_path):
     result = run_chapter("04", "--headless", "--camera-look", "0,0,0")
     assert result.returncode == 2
-    assert "--camera-look must not be zero" in result.stderr
+    assert "camera: the look direction must not be zero" in result.stderr
