@@ -1,11 +1,10 @@
 #include "gpu_scene.h"
 
-#include <algorithm>
 #include <cmath>
-#include <filesystem>
+#include <utility>
 
-#include "course/error.h"
 #include "normals.h"
+#include "obj_loader.h"
 
 namespace {
 
@@ -20,6 +19,7 @@ uint32_t addEmitter(GpuScene& gpu, const course::SceneFile& scene, uint32_t mate
     return static_cast<uint32_t>(gpu.emitters.size() - 1);
 }
 
+// --8<-- [start:mesh]
 // A mesh joins the scene as chapter 09 drew it: its positions and normals appended to
 // the scene's, its triangles' indices shifted past what was there before. A file
 // without normals gets chapter 08's computed ones.
@@ -56,22 +56,26 @@ void addMesh(GpuScene& gpu, const course::SceneFile& scene, const Mesh& mesh,
              emitter});
     }
 }
+// --8<-- [end:mesh]
 
 // --8<-- [start:leaf_order]
 // Builds the tree over the triangles and stores them in its leaf order, so that each
 // leaf is one run of the buffer. Emitters that are triangles follow theirs.
-void buildTree(GpuScene& gpu, const BvhOptions& options) {
+void buildTree(GpuScene& gpu) {
     std::vector<glm::vec3> positions(gpu.positions.begin(), gpu.positions.end());
     std::vector<uint32_t> corners;
     corners.reserve(3 * gpu.triangles.size());
     for (const gpu::Triangle& t : gpu.triangles)
         corners.insert(corners.end(), {t.corners.x, t.corners.y, t.corners.z});
-    gpu.bvh = buildBvh(positions, corners, options);
+    gpu.bvh = buildBvh(positions, corners);
 
-    gpu.triangles = inLeafOrder(gpu.bvh, gpu.triangles);
-    std::vector<uint32_t> leafPosition(gpu.triangles.size());
-    for (size_t i = 0; i < gpu.bvh.triangleOrder.size(); ++i)
-        leafPosition[gpu.bvh.triangleOrder[i]] = uint32_t(i);
+    std::vector<gpu::Triangle> inputOrder = std::move(gpu.triangles);
+    std::vector<uint32_t> leafPosition(inputOrder.size());
+    gpu.triangles.clear();
+    for (uint32_t input : gpu.bvh.triangleOrder) {
+        leafPosition[input] = uint32_t(gpu.triangles.size());
+        gpu.triangles.push_back(inputOrder[input]);
+    }
     for (gpu::Emitter& emitter : gpu.emitters)
         if (emitter.shape == SHAPE_TRIANGLE) emitter.index = leafPosition[emitter.index];
 }
@@ -79,69 +83,22 @@ void buildTree(GpuScene& gpu, const BvhOptions& options) {
 
 }  // namespace
 
-std::vector<Mesh> loadMeshes(const course::SceneFile& scene) {
-    std::vector<Mesh> meshes;
-    for (const course::SceneMesh& sceneMesh : scene.meshes)
-        meshes.push_back(loadObj(sceneMesh.path));
-    return meshes;
-}
-
-void placeMeshInRoom(course::SceneFile& scene, std::vector<Mesh>& meshes, Mesh mesh,
-                     const std::string& path) {
-    glm::vec3 roomLow(INFINITY), roomHigh(-INFINITY);
-    for (const course::SceneQuad& q : scene.quads)
-        for (glm::vec3 corner : {q.origin, q.origin + q.edge1, q.origin + q.edge2})
-            roomLow = glm::min(roomLow, corner), roomHigh = glm::max(roomHigh, corner);
-    glm::vec3 low(INFINITY), high(-INFINITY);
-    for (glm::vec3 p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
-    auto firstMatte = std::find_if(scene.materials.begin(), scene.materials.end(),
-                                   [](const course::SceneMaterial& m) { return !m.emits(); });
-    if (scene.quads.empty() || firstMatte == scene.materials.end())
-        course::fail(course::ExitCode::BadInput,
-                     scene.path + ":0: --obj needs a room of quads and a material that "
-                     "does not emit to place the mesh with");
-
-    course::SceneMesh placed;
-    placed.path = std::filesystem::absolute(path).string();
-    placed.writtenPath = path;
-    placed.material = uint32_t(firstMatte - scene.materials.begin());
-    placed.name = "mesh";
-    glm::vec3 room = roomHigh - roomLow, size = high - low;
-    float largest = std::max({size.x, size.y, size.z});
-    placed.scale = largest > 0.0f ? 0.5f * std::min(room.x, room.z) / largest : 1.0f;
-    glm::vec3 roomCentre = 0.5f * (roomLow + roomHigh), meshCentre = 0.5f * (low + high);
-    placed.translation = glm::vec3(roomCentre.x - placed.scale * meshCentre.x,
-                                   roomLow.y - placed.scale * low.y,
-                                   roomCentre.z - placed.scale * meshCentre.z);
-    scene.meshes.push_back(placed);
-    meshes.push_back(std::move(mesh));
-}
-
-GpuScene packScene(const course::SceneFile& scene, const std::vector<Mesh>& meshes,
-                   const BvhOptions& bvhOptions) {
+GpuScene packScene(const course::SceneFile& scene) {
     GpuScene gpu;
     for (const course::SceneMaterial& m : scene.materials)
         gpu.materials.push_back({glm::vec4(m.albedo, 0), glm::vec4(m.emission, 0)});
-    glm::vec3 low(INFINITY), high(-INFINITY);
-    auto grow = [&](glm::vec3 p) { low = glm::min(low, p); high = glm::max(high, p); };
 
     for (const course::SceneSphere& s : scene.spheres) {
         float area = 4.0f * kPi * s.radius * s.radius;
         uint32_t emitter =
             addEmitter(gpu, scene, s.material, SHAPE_SPHERE, gpu.spheres.size(), area);
         gpu.spheres.push_back({s.center, s.radius, s.material, emitter, 0u, 0u});
-        grow(s.center - s.radius);
-        grow(s.center + s.radius);
     }
     for (const course::SceneQuad& q : scene.quads) {
         float area = glm::length(glm::cross(q.edge1, q.edge2));
         uint32_t emitter =
             addEmitter(gpu, scene, q.material, SHAPE_QUAD, gpu.quads.size(), area);
         gpu.quads.push_back({q.origin, q.material, q.edge1, emitter, q.edge2, 0u});
-        grow(q.origin);
-        grow(q.origin + q.edge1 + q.edge2);
-        grow(q.origin + q.edge1);
-        grow(q.origin + q.edge2);
     }
     // A lone triangle is a mesh of one, flat: its three corners share its own normal.
     for (const course::SceneTriangle& t : scene.triangles) {
@@ -150,12 +107,19 @@ GpuScene packScene(const course::SceneFile& scene, const std::vector<Mesh>& mesh
         Mesh one{{t.p0, t.p1, t.p2}, {normal}, {0, 1, 2}, {0, 0, 0}};
         addMesh(gpu, scene, one, glm::mat4(1.0f), t.material);
     }
-    for (size_t m = 0; m < meshes.size(); ++m) {
-        const course::SceneMesh& sceneMesh = scene.meshes.at(m);
-        addMesh(gpu, scene, meshes[m], sceneMesh.worldFromMesh(), sceneMesh.material);
-    }
+    for (const course::SceneMesh& sceneMesh : scene.meshes)
+        addMesh(gpu, scene, loadObj(sceneMesh.path), sceneMesh.worldFromMesh(),
+                sceneMesh.material);
+
+    glm::vec3 low(INFINITY), high(-INFINITY);
+    auto grow = [&](glm::vec3 p) { low = glm::min(low, p); high = glm::max(high, p); };
+    for (const gpu::Sphere& s : gpu.spheres) grow(s.center - s.radius), grow(s.center + s.radius);
+    for (const gpu::Quad& q : gpu.quads)
+        for (glm::vec3 p : {q.origin, q.origin + q.edge1, q.origin + q.edge2,
+                            q.origin + q.edge1 + q.edge2})
+            grow(p);
     for (const glm::vec4& p : gpu.positions) grow(glm::vec3(p));
     gpu.size = glm::length(high - low);
-    buildTree(gpu, bvhOptions);
+    buildTree(gpu);
     return gpu;
 }

@@ -8,10 +8,8 @@
 #include <numeric>
 #include <string>
 
-#include "bvh.h"
 #include "camera.h"
 #include "course/fly_camera.h"
-#include "course/log.h"
 #include "course/loop_budget.h"
 #include "course/scene_file.h"
 #include "course/session.h"
@@ -31,7 +29,6 @@ std::string scenePath(course::Session& session, const std::string& scene) {
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 13: path tracing through a bounding volume hierarchy");
     cli.acceptScene();  // --scene NAME|FILE, default cornell_teapot
-    cli.acceptObj();    // --obj FILE: that mesh, standing in the scene (cornell_room)
     int depth = 6, batches = 1;
     cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
                1, 1000);
@@ -42,14 +39,10 @@ int main(int argc, char** argv) {
                {"nee", "bsdf", "mis"}, &estimator);
     cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
                "the GPU between them (the same image)", &batches, 1, 1 << 20);
-    bool bruteForce = false;
-    cli.flag("--brute-force", "test every triangle for every ray, without the tree "
-             "(chapter 12's way: for comparisons)", &bruteForce);
     std::string view = "radiance";
     cli.choice("--view", "what the image shows: the path traced light, what the camera "
-               "rays hit (normals, distance in metres), the traversal's work per pixel "
-               "(cost) or random bounce rays (bounce: ambient occlusion)",
-               {"radiance", "normals", "distance", "cost", "bounce"}, &view);
+               "rays hit (normals, distance in metres) or the traversal's work per pixel "
+               "(cost)", {"radiance", "normals", "distance", "cost"}, &view);
     bool scriptCameraMove = false;
     cli.flag("--script-camera-move", "window mode: step forward at frame 2 (tests)",
              &scriptCameraMove);
@@ -58,36 +51,26 @@ int main(int argc, char** argv) {
         const int width = options.width, height = options.height;
         if (direct) depth = 1;
 
-        // 1. The scene file, its meshes (and --obj's), the packed arrays and the tree
-        //    over the triangles (exit code 3 on mistakes).
-        std::string sceneOption = options.scene.empty() ? "cornell_teapot" : options.scene;
-        if (options.scene.empty() && !options.objPath.empty()) sceneOption = "cornell_room";
+        // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
+        const std::string& sceneOption = options.scene.empty() ? "cornell_teapot"
+                                                               : options.scene;
         course::SceneFile sceneFile = course::loadSceneFile(
             scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
-        std::vector<Mesh> meshes = loadMeshes(sceneFile);
-        if (!options.objPath.empty())
-            placeMeshInRoom(sceneFile, meshes, loadObj(options.objPath), options.objPath);
-        GpuScene scene = packScene(sceneFile, meshes);
-        meshes.clear();  // the triangles are in `scene` now
-        course::logInfo(describeBvh(scene.bvh.stats));
-        recordBvhStats(scene.bvh.stats, session.stats());
-        // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
-        // other views trace at most two rays): with the tree, only spheres and quads
-        // are looped over, and its own steps are a few hundred per ray.
-        size_t looped = scene.spheres.size() + scene.quads.size();
-        if (bruteForce) looped = scene.shapeCount();
-        size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
-        const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
-                                        : "Fewer spheres and quads, or a lower --depth, fit.";
-        course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
-                                 2 * rounds, wayOut});
+        GpuScene scene = packScene(sceneFile);
+        // The camera ray and each bounce loop over the spheres and quads twice (nearest
+        // hit, shadow ray); the tree finds the triangles in a few hundred steps a ray.
+        course::checkLoopBudget({sceneFile.path, scene.spheres.size() + scene.quads.size(),
+                                 "spheres and quads at --depth " + std::to_string(depth),
+                                 2 * (size_t(depth) + 1),
+                                 "A lower --depth, or fewer spheres and quads, fit."});
         session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("triangles", double(scene.triangles.size()));
         session.stats().set("emitters", double(scene.emitters.size()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene, the image (the running mean), each pixel's
-        //    random number state and ray count.
+        // 2. Storage buffers: the scene (the triangles' corners and normals as in
+        //    chapter 09), the image (the running mean), each pixel's random number
+        //    state and ray count.
         auto spheres = course::GpuBuffer::fromVector(scene.spheres);
         auto quads = course::GpuBuffer::fromVector(scene.quads);
         auto triangles = course::GpuBuffer::fromVector(scene.triangles);
@@ -96,7 +79,6 @@ int main(int argc, char** argv) {
         auto materials = course::GpuBuffer::fromVector(scene.materials);
         auto emitters = course::GpuBuffer::fromVector(scene.emitters);
         auto bvhNodes = course::GpuBuffer::fromVector(scene.bvh.nodes);
-        course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
         course::ImageBuffer image(width, height);
         course::GpuBuffer randomStates(size_t(width) * height * sizeof(glm::uvec4));
         course::GpuBuffer rayCounts(size_t(width) * height * sizeof(uint32_t));
@@ -108,7 +90,6 @@ int main(int argc, char** argv) {
         materials.bindStorage(MATERIALS_BINDING);
         emitters.bindStorage(EMITTERS_BINDING);
         bvhNodes.bindStorage(BVH_NODES_BINDING);
-        bounceStarts.bindStorage(BOUNCE_START_BINDING);
         image.pixels.bindStorage(PIXELS_BINDING);
         randomStates.bindStorage(RANDOM_BINDING);
         rayCounts.bindStorage(RAY_COUNT_BINDING);
@@ -133,10 +114,7 @@ int main(int argc, char** argv) {
         parameters.view = view == "normals"    ? VIEW_NORMALS
                           : view == "distance" ? VIEW_DISTANCE
                           : view == "cost"     ? VIEW_COST
-                          : view == "bounce"   ? VIEW_BOUNCE
                                                : VIEW_RADIANCE;
-        parameters.occlusionDistance = 0.25f * scene.size;
-        parameters.bruteForce = bruteForce;
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;

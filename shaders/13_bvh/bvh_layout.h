@@ -12,9 +12,9 @@
 // loop iterations, and counts every iteration of every loop (bvh_traversal.glsl).
 #define BVH_MAX_LEAF_SIZE 4
 
-// The deepest leaf is found after at most this many node fetches: buildBvh() switches
-// to halving splits when a subtree would get deeper (bvh.cpp). The traversal's stack has
-// as many entries; it never holds more than one node per level above the current one.
+// The deepest leaf is found after at most this many node fetches: buildBvh() halves
+// every range, so 2^32 triangles take 32 (bvh.cpp). The traversal's stack has as many
+// entries; it never holds more than one node per level above the current one.
 #define BVH_MAX_DEPTH 64
 #define BVH_STACK_SIZE BVH_MAX_DEPTH
 // --8<-- [end:limits]

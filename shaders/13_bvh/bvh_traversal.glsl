@@ -106,24 +106,19 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
     t = min(tMax, BVH_FAR);  // only hits nearer than this count; it shrinks with each hit
     uv = vec2(0.0);
 
-    // What is visited next, and what was put aside for later, with where the ray enters
-    // it: a child as the node stores it, (index, count): count 0 for a node, the number
-    // of triangles for a leaf.
+    // What is visited next, and what was put aside for later: a child as the node
+    // stores it, (index, count): count 0 for a node, the number of triangles for a leaf.
     uvec2 current = uvec2(0u, 0u);  // the root, node 0
     bool haveCurrent = true;
     uvec2 stack[BVH_STACK_SIZE];
-    float stackEnter[BVH_STACK_SIZE];
     int stackSize = 0;
 
     for (;;) {
         ++bvhLoopIterations;
-        // 1. Nothing to go on with: take the child put aside last (the nearest of those
-        //    left), unless the ray enters it behind a hit found since.
+        // 1. Nothing to go on with: take the child put aside last.
         if (!haveCurrent) {
             if (stackSize == 0) break;
-            --stackSize;
-            if (stackEnter[stackSize] >= t) continue;
-            current = stack[stackSize];
+            current = stack[--stackSize];
         }
         haveCurrent = false;
 
@@ -146,24 +141,16 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
         float enterLeft = bvhEnterBox(boxRay, node.leftMin, node.leftMax, tMin, t);
         float enterRight = bvhEnterBox(boxRay, node.rightMin, node.rightMax, tMin, t);
 
-        // 4. The child the ray enters first goes first: a hit in it is likely nearer
-        //    than anything in the other, which is then skipped at step 1.
-        uvec2 left = uvec2(node.leftIndex, node.leftCount);
-        uvec2 right = uvec2(node.rightIndex, node.rightCount);
-        bool leftFirst = enterLeft <= enterRight;
-        uvec2 nearChild = leftFirst ? left : right, farChild = leftFirst ? right : left;
-        float enterNear = min(enterLeft, enterRight), enterFar = max(enterLeft, enterRight);
-        if (enterNear < t) {
-            current = nearChild;
+        // 4. Go on with the left child, put the right one aside. (Whatever it holds is
+        //    tested against the nearest hit found by the time it is taken back.)
+        if (enterLeft < t) {
+            current = uvec2(node.leftIndex, node.leftCount);
             haveCurrent = true;
         }
         // Each node on the way down from the root puts aside at most one child, and the
         // builder keeps the tree within BVH_STACK_SIZE levels: the stack never overflows.
-        if (enterFar < t && stackSize < BVH_STACK_SIZE) {
-            stack[stackSize] = farChild;
-            stackEnter[stackSize] = enterFar;
-            ++stackSize;
-        }
+        if (enterRight < t && stackSize < BVH_STACK_SIZE)
+            stack[stackSize++] = uvec2(node.rightIndex, node.rightCount);
     }
     return found;
 }

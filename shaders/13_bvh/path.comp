@@ -2,7 +2,7 @@
 // Chapter 13: chapter 12's path tracer, its rays finding triangles through a bounding
 // volume hierarchy (scene.glsl, bvh_traversal.glsl). Each dispatch adds one sample to
 // every pixel; the image holds the running mean. Besides the radiance, --view shows
-// what the camera rays hit, how hard the tree worked for them, or random bounce rays.
+// what the camera rays hit, or how hard the tree worked for them.
 #include "shared.h"
 #include "random.glsl"
 #include "camera.glsl"
@@ -15,17 +15,7 @@ layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomState
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 // imageSize, sampleIndex, maxBounces (--depth), estimator and the camera come in the
-// PathParameters uniform block (shared.h), and so do view and occlusionDistance.
-
-// VIEW_BOUNCE: where each pixel's camera ray hit (w = 1) or that it hit nothing (w = 0),
-// found by the first dispatch; every dispatch then traces one random ray from there.
-struct BounceStart {
-    vec4 position;
-    vec4 normal;
-};
-layout(std430, binding = BOUNCE_START_BINDING) buffer BounceStarts {
-    BounceStart bounceStarts[];
-};
+// PathParameters uniform block (shared.h).
 
 const float FOREVER = 3.0e38;
 
@@ -143,30 +133,6 @@ vec3 firstHitView(Ray ray, inout uint rays) {
     if (!found) return vec3(0.0);
     return view == VIEW_NORMALS ? 0.5 + 0.5 * hit.normal : vec3(hit.t);
 }
-
-// One random diffuse ray from the pixel's first hit (found once, by the first
-// dispatch): 1 if it travels farther than occlusionDistance, else 0. The mean is the
-// ambient occlusion; the rays are the incoherent kind a path's bounces trace.
-vec3 bounceView(uint index, Ray cameraRay, inout RandomState random, inout uint rays) {
-    if (sampleIndex == 0u) {
-        Hit hit;
-        rays += 1u;
-        bool found = nearestHit(cameraRay, 0.0, FOREVER, hit) && hit.front;
-        bounceStarts[index] = BounceStart(vec4(hit.position, found ? 1.0 : 0.0),
-                                          vec4(hit.geometricNormal, 0.0));
-    }
-    BounceStart start = bounceStarts[index];
-    if (start.position.w == 0.0) return vec3(0.0);
-    vec3 normal = start.normal.xyz;
-    Ray ray = Ray(offsetFromSurface(start.position.xyz, normal),
-                  cosineSampleHemisphere(normal, random2(random)));
-    rays += 1u;
-    // The nearest hit, however far (not just within occlusionDistance): a full ray, as
-    // the benchmark wants it.
-    Hit hit;
-    bool blocked = nearestHit(ray, 0.0, FOREVER, hit) && hit.t < occlusionDistance;
-    return vec3(blocked ? 0.0 : 1.0);
-}
 // --8<-- [end:views]
 
 void main() {
@@ -183,8 +149,6 @@ void main() {
     if (view == VIEW_RADIANCE) {
         Ray ray = primaryRay(pixel, imageSize, random2(random));  // a random point (AA)
         radiance = tracePath(ray, random, rays);
-    } else if (view == VIEW_BOUNCE) {
-        radiance = bounceView(index, primaryRay(pixel, imageSize, vec2(0.5)), random, rays);
     } else {
         radiance = firstHitView(primaryRay(pixel, imageSize, vec2(0.5)), rays);
     }

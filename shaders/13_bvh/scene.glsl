@@ -1,8 +1,8 @@
-// The scene: spheres, quads and triangles in storage buffers, each with a material and,
-// if it glows, its place in the emitter list; the triangles' corners and normals in two
-// more, as in chapter 09. A ray tests every sphere and quad (a scene
-// has a few dozen), and finds its triangles (a mesh may have millions) through the
-// bounding volume hierarchy: bvh_traversal.glsl.
+// The scene: spheres, quads and triangles in storage buffers, each with a material
+// and, if it glows, its place in the emitter list;
+// the triangles' corners and normals in two more, as in chapter 09. A ray tests every
+// sphere and quad (a scene has a few dozen) and finds its triangles (a mesh may have
+// millions) through the bounding volume hierarchy: bvh_traversal.glsl.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
@@ -69,9 +69,6 @@ bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out v
     return hitTriangle(ray, cornersOf(triangles[index]), tMin, tMax, t, uv);
 }
 #include "bvh_traversal.glsl"
-
-// --brute-force (bruteForce in the PathParameters block, shared.h): test every
-// triangle, as chapter 12 does.
 // --8<-- [end:bvh_interface]
 
 // Fills in a hit on a sphere or a quad from its front normal, material and emitter:
@@ -87,7 +84,7 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter) {
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
-    vec2 uv, hitUv;
+    vec2 barycentric, hitBarycentric;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -97,18 +94,10 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
             tMax = t; kind = SHAPE_QUAD; index = i;
         }
     // The triangles: the tree finds the nearest one nearer than tMax (the nearest
-    // sphere or quad so far), or brute force tries them all.
-    if (bruteForce != 0u) {
-        for (int i = 0; i < triangles.length(); ++i)
-            if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) {
-                tMax = t; kind = SHAPE_TRIANGLE; index = i; hitUv = uv;
-            }
-        bvhLoopIterations += uint(triangles.length());  // for --view cost
-    } else {
-        uint triangle;
-        if (bvhNearestHit(ray, tMin, tMax, triangle, t, uv)) {
-            tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle); hitUv = uv;
-        }
+    // sphere or quad so far).
+    uint triangle;
+    if (bvhNearestHit(ray, tMin, tMax, triangle, t, barycentric)) {
+        tMax = t; kind = SHAPE_TRIANGLE; index = int(triangle); hitBarycentric = barycentric;
     }
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
@@ -119,7 +108,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         Quad q = quads[index];
         hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter);
     } else if (kind == SHAPE_TRIANGLE) {
-        hit = triangleHit(ray, tMax, hitUv, triangles[index]);
+        hit = triangleHit(ray, tMax, hitBarycentric, triangles[index]);
     }
     return kind >= 0;
 }
@@ -128,13 +117,9 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 // Is anything in the way between tMin and tMax? Any hit will do (a shadow ray).
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
-    vec2 uv;
     for (int i = 0; i < spheres.length(); ++i)
         if (hitSphere(ray, spheres[i], tMin, tMax, t)) return true;
     for (int i = 0; i < quads.length(); ++i)
         if (hitQuad(ray, quads[i], tMin, tMax, t)) return true;
-    if (bruteForce == 0u) return bvhAnyHit(ray, tMin, tMax);
-    for (int i = 0; i < triangles.length(); ++i)
-        if (hitTriangle(ray, uint(i), tMin, tMax, t, uv)) return true;
-    return false;
+    return bvhAnyHit(ray, tMin, tMax);
 }

@@ -19,7 +19,6 @@
 #define NORMALS_BINDING 8    // the normals at those corners, unit: one vec4 each
 #define EMITTERS_BINDING 9   // the shapes that emit: what next-event estimation samples
 #define BVH_NODES_BINDING 10  // the bounding volume hierarchy over the triangles
-#define BOUNCE_START_BINDING 11  // --view bounce: each pixel's first hit, found once
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
@@ -30,8 +29,6 @@
 #define VIEW_NORMALS 1   // the normal of the surface hit, 0.5 + 0.5 n; black for no hit
 #define VIEW_DISTANCE 2  // how far along the ray the hit is (PFM: metres); 0 for no hit
 #define VIEW_COST 3      // traversal steps for the ray, as a heat map (bvh_traversal.glsl)
-#define VIEW_BOUNCE 4    // random diffuse rays from the first hit: the share that travel
-                         // over a quarter of the scene (ambient occlusion); a benchmark
 
 // Which estimator of the light arriving at a surface (--estimator).
 #define ESTIMATOR_NEE 0   // sample the lights only (next-event estimation)
@@ -135,12 +132,8 @@ layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
     uint sampleIndex;  // how many samples the image's mean holds already
     int maxBounces;    // --depth: 1 is direct light only
     int estimator;     // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
-    int view;                 // VIEW_RADIANCE, VIEW_NORMALS, ... (--view)
-    float occlusionDistance;  // VIEW_BOUNCE: a bounce ray going farther is "open"
-    uint bruteForce;          // 1 for --brute-force: every triangle, no tree (scene.glsl)
-    uint unused2;             // std140 rounds a block up to 16 bytes as well
-    uint unused3;
-    uint unused4;
+    int view;          // VIEW_RADIANCE, VIEW_NORMALS, ... (--view)
+    uint unused3;      // std140 rounds a block up to 16 bytes as well
 };
 // --8<-- [end:parameters]
 
@@ -168,8 +161,7 @@ static_assert(offsetof(PathParameters, imageSize) == 64 &&
                   offsetof(PathParameters, seed) == 72 &&
                   offsetof(PathParameters, sampleIndex) == 76 &&
                   offsetof(PathParameters, maxBounces) == 80 &&
-                  offsetof(PathParameters, estimator) == 84 &&
-                  offsetof(PathParameters, bruteForce) == 96 && sizeof(PathParameters) == 112,
+                  offsetof(PathParameters, estimator) == 84 && sizeof(PathParameters) == 96,
               "std140 PathParameters");
 }  // namespace gpu
 #endif

@@ -1,5 +1,5 @@
 // Shared by test_bvh.cpp (CPU) and test_bvh_gpu.cpp (GPU): test meshes made in C++, a
-// seeded random generator, and a C++ port of shaders/13_bvh/bvh_traversal.glsl with the
+// seeded random generator, and a C++ port of shaders/14_bvh_sah/bvh_traversal.glsl with the
 // same ray-triangle test as the chapters, checked against brute force.
 #pragma once
 #include <algorithm>

@@ -1,4 +1,4 @@
-// shaders/13_bvh/bvh_traversal.glsl on the GPU (headless llvmpipe here): it compiles,
+// shaders/14_bvh_sah/bvh_traversal.glsl on the GPU (headless llvmpipe here): it compiles,
 // and for thousands of rays against trees from buildBvh() it finds the same hits as the
 // C++ port of it in bvh_test_support.h, which test_bvh checks against brute force. Also
 // measures the traversal's loop iterations per ray: Mesa 22's llvmpipe ends an
@@ -59,7 +59,7 @@ protected:
 
     course::ShaderProgram program() {
         // The test shader lives with the test data; its includes are the chapter's.
-        return course::ShaderProgram::compute(COURSE_SOURCE_DIR "/shaders/13_bvh",
+        return course::ShaderProgram::compute(COURSE_SOURCE_DIR "/shaders/14_bvh_sah",
                                               "../../tests/data/bvh/traversal_test.comp");
     }
 
