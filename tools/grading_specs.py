@@ -57,6 +57,7 @@ TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two s
 # so it takes fewer.
 PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=2048)
 TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
+PREVIEW_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=1024)
 # Chapter 13's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
@@ -140,6 +141,18 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
                   "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
     ],
+    # Chapter 10: the preview is random too (a random point in each pixel, ambient
+    # occlusion by random rays): graded by expectation. Surfaces alone (no occlusion
+    # within reach) probe the quad and sphere tests and the materials; the preview
+    # probes the occlusion; the gems probe triangles from a mesh file.
+    "10": [
+        GradeTest("Cornell spheres, surfaces and materials", 4,
+                  [*TINY, "--ao-distance", "1e-7"], "statistical", sampling=PREVIEW_SAMPLING),
+        GradeTest("Cornell spheres, ambient occlusion preview", 3, TINY, "statistical",
+                  sampling=PREVIEW_SAMPLING),
+        GradeTest("gems, ambient occlusion preview", 3, [*TINY, "--scene", "cornell_gems"],
+                  "statistical", "after_due_date", sampling=PREVIEW_SAMPLING),
+    ],
     # Chapter 11: a path-traced picture is random, and any correct sampler of the same
     # directions may draw its numbers in another order or map them another valid way:
     # graded by its expectation (tools/grading_statistics.py), never by reproducing the
@@ -177,14 +190,30 @@ SPECS: dict[str, list[GradeTest]] = {
     "13": [
         # The tree must give the pictures of brute force (a slab test that enters every
         # box does too, only slowly) and do about the solution's work, but need not be
-        # the solution's tree: another valid SAH (another bin count, the cost divided by
-        # the node's area) gives another tree. So the path-traced picture is graded by
+        # the solution's slab test: another valid one (the planes ordered by min and max
+        # instead of by the direction's signs) may differ in the last bit. So the
+        # path-traced picture is graded by
         # statistics, and the traversal by its nearest hits (--view distance, exact: one
         # ray through each pixel's centre) and its work (--view cost, each pixel's steps):
         # within +-25% of the solution's mean where rays enter the tree, and no more
         # pixels at the heat map's top (60 steps; entering every box takes thousands).
         # The starter's box test misses every box: the room without the teapot.
         GradeTest("teapot in the Cornell box, six bounces", 4, TINY, "statistical",
+                  sampling=TREE_SAMPLING),
+        GradeTest("nearest hits and traversal work", 4, ["--width", "64", "--height", "64"],
+                  "traversal"),
+        GradeTest("gems, nearest hits and traversal work", 2,
+                  ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
+                  "traversal", visibility="after_due_date"),
+    ],
+    # Chapter 14: the SAH. The picture does not depend on the tree's quality (any valid
+    # tree finds the same hits), so what is graded is the work: the same traversal tests
+    # as chapter 13's, whose +-25% band around the solution's steps a valid SAH (another
+    # bin count, the cost divided by the node's area) meets and a wrong cost does not
+    # (the starter's, a node's price alone, picks the first plane: a peeling tree, many
+    # times the steps). The picture is still checked, for few points.
+    "14": [
+        GradeTest("teapot in the Cornell box, six bounces", 2, TINY, "statistical",
                   sampling=TREE_SAMPLING),
         GradeTest("nearest hits and traversal work", 4, ["--width", "64", "--height", "64"],
                   "traversal"),

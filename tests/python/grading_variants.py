@@ -236,6 +236,55 @@ CHAPTER_09 = [
 CATALOGUE["09"] = CHAPTER_09
 
 
+# ---------------------------------------------------------------- chapter 10
+
+S = "10_scenes"
+PIXEL_POINT = """    float x = random01(random);
+    Ray ray = primaryRay(pixel, imageSize, vec2(x, random01(random)));
+"""
+AO_DIRECTION = """    float radius = sqrt(random01(random)), angle = 2.0 * PI * random01(random);
+"""
+QUAD_INSIDE = "    return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;\n"
+PREVIEW = "    return material.emission.rgb + material.albedo.rgb * occlusion;\n"
+
+CHAPTER_10 = [
+    Variant(S, "pixel point drawn y first", True, (
+        Edit("shaders/trace.comp", PIXEL_POINT, """    float y = random01(random);
+    Ray ray = primaryRay(pixel, imageSize, vec2(random01(random), y));
+"""),)),
+    Variant(S, "cosine directions by the angle drawn first", True, (
+        Edit("shaders/trace.comp", AO_DIRECTION, """    float angle = 2.0 * PI * random01(random), radius = sqrt(random01(random));
+"""),)),
+    Variant(S, "quad test by the two edge projections, no dual vectors", True, (
+        Edit("shaders/scene.glsl", """    vec3 w = normal / dot(normal, normal);
+    float a = dot(w, cross(p, quad.edge2));
+    float b = dot(w, cross(quad.edge1, p));
+""", """    // Solve p = a edge1 + b edge2 by the 2x2 system of dot products (Cramer).
+    float e11 = dot(quad.edge1, quad.edge1), e12 = dot(quad.edge1, quad.edge2);
+    float e22 = dot(quad.edge2, quad.edge2), determinant = e11 * e22 - e12 * e12;
+    float p1 = dot(p, quad.edge1), p2 = dot(p, quad.edge2);
+    float a = (p1 * e22 - p2 * e12) / determinant;
+    float b = (p2 * e11 - p1 * e12) / determinant;
+"""),)),
+
+    Variant(S, "occlusion directions uniform over the hemisphere", False, (
+        Edit("shaders/trace.comp", AO_DIRECTION, """    float height = random01(random);
+    float radius = sqrt(1.0 - height * height), angle = 2.0 * PI * random01(random);
+"""),
+        Edit("shaders/trace.comp", "         + sqrt(max(0.0, 1.0 - radius * radius)) * normal;",
+             "         + height * normal;"))),
+    Variant(S, "occlusion ignored: albedo everywhere", False, (
+        Edit("shaders/trace.comp", PREVIEW,
+             "    return material.emission.rgb + material.albedo.rgb;\n"),)),
+    Variant(S, "glow left out", False, (
+        Edit("shaders/trace.comp", PREVIEW, "    return material.albedo.rgb * occlusion;\n"),)),
+    Variant(S, "quads twice as large (edge coordinates up to 2)", False, (
+        Edit("shaders/scene.glsl", QUAD_INSIDE,
+             "    return a >= 0.0 && a <= 2.0 && b >= 0.0 && b <= 2.0;\n"),)),
+]
+
+CATALOGUE["10"] = CHAPTER_10
+
 # ---------------------------------------------------------------- chapter 13
 
 B = "13_bvh"

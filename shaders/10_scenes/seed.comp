@@ -1,0 +1,21 @@
+#version 430 core
+// Gives every pixel its generator's starting state, once per image (--seeding).
+#include "shared.h"
+#include "random.glsl"
+
+layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
+layout(std430, binding = RANDOM_BINDING) writeonly buffer Random {
+    RandomState randomStates[];
+};
+uniform uvec2 imageSize;
+uniform uint seed;         // --seed
+uniform bool naiveSeeding;  // --seeding naive: the seeding that shows stripes
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (pixel.x >= imageSize.x || pixel.y >= imageSize.y) return;
+    // --8<-- [start:seed]
+    uint index = pixel.y * imageSize.x + pixel.x;  // rng.py's pixel index
+    randomStates[index] = naiveSeeding ? seedNaive(seed, index) : seedHashed(seed, index);
+    // --8<-- [end:seed]
+}
