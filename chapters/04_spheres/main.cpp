@@ -1,13 +1,14 @@
 // Chapter 04: spheres. Every camera ray looks for the nearest sphere it meets; the
 // picture shows the surface normal there as a colour, and the sky where rays miss.
 #include "camera.h"
+#include "course/camera_options.h"
 #include "course/session.h"
 #include "scene.h"
 #include "shared.h"  // bindings, the tile size and the Sphere struct, shared with GLSL
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 04: the nearest sphere along every ray, its normal");
-    CameraOptions cameraOptions;
+    course::CameraOptions cameraOptions;
     cameraOptions.declare(cli);  // --camera-eye, --camera-look, ... (see --help)
     cli.acceptScene();           // --scene spheres|single
     bool firstHitOnly = false;
@@ -18,7 +19,8 @@ int main(int argc, char** argv) {
 
         // 1. The camera's basis, computed once on the CPU: every pixel uses the same
         //    three vectors, so there is no reason to rebuild them per invocation.
-        Camera camera = cameraOptions.camera();
+        Camera camera = makeCamera(cameraOptions.eye, cameraOptions.look, cameraOptions.up,
+                                   cameraOptions.focalLength, cameraOptions.sensorWidth);
 
         // --8<-- [start:scene]
         // 2. The scene goes to the GPU as an array of Sphere structs, laid out as the

@@ -1,9 +1,8 @@
-// The pinhole camera on the host side: its options on the command line, and the basis
-// the shader needs, computed once per image instead of once per pixel.
+// The pinhole camera on the host side: the basis the shader needs, computed once per
+// image instead of once per pixel. Its options on the command line: course/camera_options.h.
 #pragma once
 #include <glm/glm.hpp>
 
-#include "course/cli.h"
 #include "course/shader_program.h"
 
 // Where the camera is and how it is built: the conventions of
@@ -19,19 +18,6 @@ struct Camera {
 // recomputed so the three are at right angles. Bad vectors are exit code 2.
 Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength,
                   float sensorWidth);
-
-// --camera-eye, --camera-look, --camera-up, --focal-length, --sensor-width, read into
-// these by the command line (which refuses anything but finite numbers).
-struct CameraOptions {
-    glm::vec3 eye{0.0f, 1.0f, 4.0f};
-    glm::vec3 look{0.0f, -0.25f, -1.0f};
-    glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float focalLength = 0.035f;  // a 35 mm lens ...
-    float sensorWidth = 0.036f;  // ... on a 36 mm wide "full frame" sensor
-
-    void declare(course::CommandLine& cli);
-    Camera camera() const;  // builds and checks the basis; exit code 2 if it cannot
-};
 
 // Sets the `camera` uniform struct of camera.glsl.
 void setCamera(const course::ShaderProgram& program, const Camera& camera);

@@ -1,13 +1,14 @@
 // Chapter 05: light and shadow. A point light shines on spheres standing on a floor;
 // a hit point is lit when a shadow ray from it reaches the light unobstructed.
 #include "camera.h"
+#include "course/camera_options.h"
 #include "course/session.h"
 #include "scene.h"
 #include "shared.h"  // bindings, the tile size and the scene's structs, shared with GLSL
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 05: spheres on a floor, lit by a point light, shadows");
-    CameraOptions cameraOptions;
+    course::CameraOptions cameraOptions;
     cameraOptions.declare(cli);  // --camera-eye, --camera-look, ... (see --help)
     cli.acceptScene();           // --scene spheres|single
     bool noShadowOffset = false;
@@ -18,7 +19,8 @@ int main(int argc, char** argv) {
 
         // 1. The camera's basis, computed once on the CPU: every pixel uses the same
         //    three vectors, so there is no reason to rebuild them per invocation.
-        Camera camera = cameraOptions.camera();
+        Camera camera = makeCamera(cameraOptions.eye, cameraOptions.look, cameraOptions.up,
+                                   cameraOptions.focalLength, cameraOptions.sensorWidth);
 
         // --8<-- [start:scene]
         // 2. The scene goes to the GPU as arrays of Sphere and Plane structs, laid out as

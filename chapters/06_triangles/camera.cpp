@@ -30,19 +30,6 @@ Camera makeCamera(glm::vec3 eye, glm::vec3 look, glm::vec3 up, float focalLength
 }
 // --8<-- [end:basis]
 
-void CameraOptions::declare(course::CommandLine& cli) {
-    // Typed options: the command line reads the numbers and refuses what is not one.
-    cli.option("--camera-eye", "X,Y,Z", "camera position", &eye);
-    cli.option("--camera-look", "X,Y,Z", "viewing direction", &look);
-    cli.option("--camera-up", "X,Y,Z", "roughly upwards", &up);
-    cli.option("--focal-length", "M", "metres", &focalLength);
-    cli.option("--sensor-width", "M", "metres", &sensorWidth);
-}
-
-Camera CameraOptions::camera() const {
-    return makeCamera(eye, look, up, focalLength, sensorWidth);
-}
-
 void setCamera(const course::ShaderProgram& program, const Camera& camera) {
     program.set("camera.eye", camera.eye);
     program.set("camera.forward", camera.forward);

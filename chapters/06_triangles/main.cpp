@@ -1,13 +1,14 @@
 // Chapter 06: triangles, the shape everything else is made of. A pyramid built from
 // four of them joins the spheres, and the floor becomes two big ones.
 #include "camera.h"
+#include "course/camera_options.h"
 #include "course/session.h"
 #include "scene.h"
 #include "shared.h"  // bindings, the tile size and the scene's structs, shared with GLSL
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 06: spheres and triangles, lit, with shadows");
-    CameraOptions cameraOptions;
+    course::CameraOptions cameraOptions;
     cameraOptions.declare(cli);  // --camera-eye, --camera-look, ... (see --help)
     cli.acceptScene();           // --scene spheres|single
     bool noShadowOffset = false;
@@ -21,7 +22,8 @@ int main(int argc, char** argv) {
 
         // 1. The camera's basis, computed once on the CPU: every pixel uses the same
         //    three vectors, so there is no reason to rebuild them per invocation.
-        Camera camera = cameraOptions.camera();
+        Camera camera = makeCamera(cameraOptions.eye, cameraOptions.look, cameraOptions.up,
+                                   cameraOptions.focalLength, cameraOptions.sensorWidth);
 
         // --8<-- [start:scene]
         // 2. The scene goes to the GPU as arrays of Sphere and Triangle structs, laid out
