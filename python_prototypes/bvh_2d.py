@@ -1,6 +1,6 @@
 """A bounding volume hierarchy in 2D, built with the binned surface area heuristic.
 
-The same algorithm as chapters/13_bvh/bvh.cpp, in two dimensions so that it can be
+The same algorithm as chapters/14_bvh_sah/bvh.cpp, in two dimensions so that it can be
 drawn: boxes around small triangles, split again and again until a leaf holds a few.
 In 2D the "surface area" of a box is its perimeter: a random line crosses a convex
 shape with a probability proportional to its perimeter, as a random ray in 3D crosses a

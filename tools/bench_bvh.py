@@ -1,8 +1,9 @@
-"""./course bench bvh: chapter 13's BVH against brute force, from 552 to a million
-triangles, in one run.
+"""./course bench bvh: chapter 14's BVH (the SAH's) against brute force, from 552 to a
+million triangles, in one run.
 
 Each Newell teapot (build/assets/meshes/teapot_N.obj) stands in the empty Cornell room
-(`--obj`). Two kinds of rays, each timed by the chapter itself (--json):
+(a scene file written here: the room and one `mesh` line, placed as cornell_teapot
+places its teapot). Two kinds of rays, each timed by the chapter itself (--json):
   primary  one ray through each pixel's centre (--view normals): coherent rays
   diffuse  random cosine-distributed rays from each pixel's first hit (--view bounce):
            the incoherent rays of a path's bounces; the first dispatch also traces the
@@ -51,10 +52,22 @@ def loop_limit(binary: Path) -> str:
     return "none" if limit == "none" else f"{limit:,.0f}".replace(",", " ")
 
 
+ROOM = ROOT / "assets" / "scenes" / "cornell_room.scene"
+PLACED = "white scale 0.28 rotate_y -30 translate 0 -1 0"  # as in tests/python/test_13_bvh.py
+
+
+def scene_with(mesh: Path) -> Path:
+    """The empty Cornell room with the mesh standing in it, as a scene file."""
+    SCRATCH.mkdir(parents=True, exist_ok=True)
+    path = SCRATCH / f"{mesh.stem}.scene"
+    path.write_text(ROOM.read_text() + f"\nmesh {mesh} {PLACED}\n")
+    return path
+
+
 def run(binary: Path, mesh: Path, rays: str, method: str) -> dict | None:
     """The chapter's --json statistics, or None when it refuses (the loop limit)."""
-    command = [str(binary), "--headless", "--obj", str(mesh), "--width", str(SIZE),
-               "--height", str(SIZE), "--spp", str(SPP[rays, method]), "--view",
+    command = [str(binary), "--headless", "--scene", str(scene_with(mesh)), "--width",
+               str(SIZE), "--height", str(SIZE), "--spp", str(SPP[rays, method]), "--view",
                VIEWS[rays], "--out", str(SCRATCH / "bench.pfm"), "--json"]
     if method == "brute_force":
         command.append("--brute-force")

@@ -526,10 +526,10 @@ def cmd_bench(args):
         status |= bench.main(binary(find_chapter("12")), args.size, args.spp, args.depth)
     if args.which in ("all", "bvh"):
         # The 100 000- and 1 000 000-triangle teapots are made only for this.
-        build(["13_bvh", "course_benchmark_assets"])
+        build(["14_bvh_sah", "course_benchmark_assets"])
         import bench_bvh
         machine = f"{bench.cpu_model()} ({os.cpu_count()} cores)"
-        status |= bench_bvh.main(binary(find_chapter("13")), BUILD / "assets" / "meshes",
+        status |= bench_bvh.main(binary(find_chapter("14")), BUILD / "assets" / "meshes",
                                  machine)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
@@ -688,7 +688,7 @@ def main():
                       "the solutions, no answer notes (into book/site-student)")
 
     bench = verbs.add_parser("bench", help="chapter 12 against Mitsuba 3 on the Cornell box; "
-                             "chapter 13's BVH against brute force, 552 to 1M triangles")
+                             "chapter 14's BVH against brute force, 552 to 1M triangles")
     bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
                        default="all", help="which benchmark (default: mitsuba and bvh; "
                        "grading: one submission of each chapter on one core)")

@@ -288,18 +288,58 @@ CATALOGUE["10"] = CHAPTER_10
 # ---------------------------------------------------------------- chapter 13
 
 B = "13_bvh"
-SAH = """            double cost = options_.nodeCost * box.halfArea() +
-                          options_.triangleCost * (left.halfArea() * leftCount +
-                                                   rightAreas_[bin] * rightCount);
-"""
 SLAB_PLANES = """    vec3 nearPlanes = mix(boxMin, boxMax, ray.negative);
     vec3 farPlanes = mix(boxMax, boxMin, ray.negative);
     vec3 tNear = (nearPlanes - ray.origin) * ray.inverseDirection;
     vec3 tFar = (farPlanes - ray.origin) * ray.inverseDirection;
 """
+SLAB_RETURN = "    return enter <= exit * 1.0000004 ? enter : BVH_MISS;\n"
 
 CHAPTER_13 = [
-    Variant(B, "SAH costs divided by the node's area (split and leaf alike)", True, (
+    Variant(B, "slab test by min and max of each axis's two distances", True, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tBoxMin = (boxMin - ray.origin) * ray.inverseDirection;
+    vec3 tBoxMax = (boxMax - ray.origin) * ray.inverseDirection;
+    vec3 tNear = min(tBoxMin, tBoxMax);
+    vec3 tFar = max(tBoxMin, tBoxMax);
+"""),)),
+    Variant(B, "grazing rays kept by an absolute margin instead of a relative one", True, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_RETURN,
+             "    return enter <= exit + 1e-5 ? enter : BVH_MISS;\n"),)),
+    Variant(B, "entry and exit folded with tMin and tMax last", True, (
+        Edit("shaders/bvh_traversal.glsl",
+             "    float enter = max(max(tNear.x, tNear.y), max(tNear.z, tMin));\n"
+             "    float exit = min(min(tFar.x, tFar.y), min(tFar.z, tMax));\n",
+             "    float enter = max(max(max(tNear.x, tNear.y), tNear.z), tMin);\n"
+             "    float exit = min(min(min(tFar.x, tFar.y), tFar.z), tMax);\n"),)),
+
+    Variant(B, "slab test that enters every box", False, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_RETURN, "    return enter;\n"),)),
+    Variant(B, "slab test that ignores the direction's signs", False, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tNear = (boxMin - ray.origin) * ray.inverseDirection;
+    vec3 tFar = (boxMax - ray.origin) * ray.inverseDirection;
+"""),)),
+    Variant(B, "slab test with near and far planes swapped", False, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES,
+             SLAB_PLANES.replace("mix(boxMin, boxMax", "mix(boxMax, boxMin", 1)
+             .replace("farPlanes = mix(boxMax, boxMin", "farPlanes = mix(boxMin, boxMax")),)),
+    Variant(B, "slab test that returns where the ray leaves the box", False, (
+        Edit("shaders/bvh_traversal.glsl", SLAB_RETURN,
+             "    return enter <= exit * 1.0000004 ? exit : BVH_MISS;\n"),)),
+]
+
+CATALOGUE["13"] = CHAPTER_13
+
+
+# ---------------------------------------------------------------- chapter 14
+
+H = "14_bvh_sah"
+SAH = """            double cost = options_.nodeCost * box.halfArea() +
+                          options_.triangleCost * (left.halfArea() * leftCount +
+                                                   rightAreas_[bin] * rightCount);
+"""
+
+CHAPTER_14 = [
+    Variant(H, "SAH costs divided by the node's area (split and leaf alike)", True, (
         Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost +
                           options_.triangleCost * (left.halfArea() * leftCount +
                                                    rightAreas_[bin] * rightCount) /
@@ -307,32 +347,31 @@ CHAPTER_13 = [
 """),
         Edit("chapters/bvh.cpp", "const double leafCost = options_.triangleCost * count * "
              "box.halfArea();", "const double leafCost = options_.triangleCost * count;"))),
-    Variant(B, "8 bins instead of 16", True, (
+    Variant(H, "8 bins instead of 16", True, (
         Edit("chapters/bvh.cpp", "    const int binCount = options_.binCount;\n",
              "    const int binCount = options_.binCount / 2;\n"),)),
-    Variant(B, "slab test by min and max of each axis's two distances", True, (
-        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tBoxMin = (boxMin - ray.origin) * ray.inverseDirection;
-    vec3 tBoxMax = (boxMax - ray.origin) * ray.inverseDirection;
-    vec3 tNear = min(tBoxMin, tBoxMax);
-    vec3 tFar = max(tBoxMin, tBoxMax);
-"""),)),
+    Variant(H, "SAH with a node twice as dear", True, (
+        Edit("chapters/bvh.cpp", SAH, SAH.replace("options_.nodeCost * box",
+                                                  "2.0 * options_.nodeCost * box")),)),
 
-    Variant(B, "SAH without the triangles (a node's cost only)", False, (
+    Variant(H, "SAH without the triangles (a node's cost only)", False, (
         Edit("chapters/bvh.cpp", SAH,
              "            double cost = options_.nodeCost * box.halfArea();\n"),)),
-    Variant(B, "SAH with each side's count on the other side's area", False, (
+    Variant(H, "SAH with each side's count on the other side's area", False, (
         Edit("chapters/bvh.cpp", SAH, SAH.replace("leftCount +", "rightCount +")
              .replace("* rightCount);", "* leftCount);")),)),
-    Variant(B, "slab test that enters every box", False, (
-        Edit("shaders/bvh_traversal.glsl", "return enter <= exit * 1.0000004 ? enter : BVH_MISS;",
-             "return enter;"),)),
-    Variant(B, "slab test that ignores the direction's signs", False, (
-        Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tNear = (boxMin - ray.origin) * ray.inverseDirection;
-    vec3 tFar = (boxMax - ray.origin) * ray.inverseDirection;
+    Variant(H, "SAH that counts triangles but forgets the areas", False, (
+        Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost * box.halfArea() +
+                          options_.triangleCost * (leftCount + rightCount) *
+                                                   box.halfArea();
+"""),)),
+    Variant(H, "SAH that weighs the areas but forgets the counts", False, (
+        Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost * box.halfArea() +
+                          options_.triangleCost * (left.halfArea() + rightAreas_[bin]);
 """),)),
 ]
 
-CATALOGUE["13"] = CHAPTER_13
+CATALOGUE["14"] = CHAPTER_14
 
 
 # ---------------------------------------------------------------- appendix A1

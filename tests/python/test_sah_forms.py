@@ -1,6 +1,6 @@
 """The surface area heuristic in its two forms: the expected cost of a ray through the
 node (python_prototypes/bvh_2d.py, divided by the node's area A) and that cost times A
-(chapters/13_bvh/bvh.cpp, and the book's formula). Every candidate of a node, the leaf
+(chapters/14_bvh_sah/bvh.cpp, and the book's formula). Every candidate of a node, the leaf
 included, carries the same factor A, so both forms must pick the same split and make
 the same leaves; the book must print the code's form."""
 
@@ -95,7 +95,7 @@ def test_both_forms_choose_the_same_split_and_the_same_leaves(seed, count):
 
 
 def test_the_book_prints_the_codes_formula():
-    page = (ROOT / "book" / "docs" / "chapters" / "13_bvh.md").read_text()
+    page = (ROOT / "book" / "docs" / "chapters" / "14_bvh_sah.md").read_text()
     formulas = re.findall(r"\$\$(.*?)\$\$", page, flags=re.S)
     sah = [f for f in formulas if "C_{\\text{node}}" in f]
     assert len(sah) == 1, formulas
@@ -103,7 +103,7 @@ def test_the_book_prints_the_codes_formula():
     assert re.search(r"C_\{\\text\{node\}\}\s*\\,\s*A\b", sah[0])
     assert re.search(r"A_L n_L \+ A_R n_R", sah[0])
     assert "C_{\\text{tri}} \\, n A" in page  # the leaf, times A too
-    code = (ROOT / "chapters" / "13_bvh" / "bvh.cpp").read_text()
+    code = (ROOT / "chapters" / "14_bvh_sah" / "bvh.cpp").read_text()
     assert "options_.nodeCost * box.halfArea() +" in code
     assert "options_.triangleCost * (left.halfArea() * leftCount +" in code
     assert "leafCost = options_.triangleCost * count * box.halfArea();" in code
