@@ -41,6 +41,15 @@ std::string Session::assetPath(const std::string& relative) const {
     return (fs::path(root) / relative).string();
 }
 
+std::string Session::scenePath(const std::string& defaultScene) const {
+    const std::string& scene = options_.scene.empty() ? defaultScene : options_.scene;
+    if (scene.find_first_of("/.") != std::string::npos) return scene;
+    std::string path = assetPath("scenes/" + scene + ".scene");
+    if (!fs::exists(path))
+        fail(ExitCode::BadUsage, "unknown scene '" + scene + "': no " + path);
+    return path;
+}
+
 ShaderProgram& Session::loadCompute(const std::string& fileName) {
     programs_.push_back(ShaderProgram::compute(shaderDir_, fileName));
     return programs_.back();

@@ -2,7 +2,6 @@
 // material, and the camera; the program packs them into storage buffers and the shader
 // finds the nearest of every kind of shape. A preview shows them: each surface's glow,
 // plus its colour darkened by chapter 09's ambient occlusion. Chapter 11 lights them.
-#include <filesystem>
 #include <string>
 
 #include "camera.h"
@@ -12,16 +11,6 @@
 #include "gpu_scene.h"
 #include "random_dump.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
-
-// --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
-// 2); anything with a '/' or '.' is a file (its mistakes are exit code 3).
-std::string scenePath(course::Session& session, const std::string& scene) {
-    if (scene.find_first_of("/.") != std::string::npos) return scene;
-    std::string path = session.assetPath("scenes/" + scene + ".scene");
-    if (!std::filesystem::exists(path))
-        course::fail(course::ExitCode::BadUsage, "unknown scene '" + scene + "': no " + path);
-    return path;
-}
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 10: scenes from files, previewed with ambient occlusion");
@@ -49,10 +38,8 @@ int main(int argc, char** argv) {
             course::fail(course::ExitCode::BadUsage, "--ao-distance must not be negative");
 
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
-        const std::string& sceneOption = session.options().scene;
         course::SceneFile sceneFile = course::loadSceneFile(
-            scenePath(session, sceneOption.empty() ? "cornell_spheres" : sceneOption),
-            {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
         // The camera ray and the occlusion ray loop over every shape: a GL's loop limit
         // caps the shapes (chapter 07).

@@ -4,7 +4,6 @@
 // multiple importance sampling, and Russian roulette ends paths that carry little.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <numeric>
 #include <string>
 
@@ -15,16 +14,6 @@
 #include "course/session.h"
 #include "gpu_scene.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
-
-// --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
-// 2); anything with a '/' or '.' is a file (its mistakes are exit code 3).
-std::string scenePath(course::Session& session, const std::string& scene) {
-    if (scene.find_first_of("/.") != std::string::npos) return scene;
-    std::string path = session.assetPath("scenes/" + scene + ".scene");
-    if (!std::filesystem::exists(path))
-        course::fail(course::ExitCode::BadUsage, "unknown scene '" + scene + "': no " + path);
-    return path;
-}
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 12: path tracing with next-event estimation and MIS");
@@ -48,10 +37,8 @@ int main(int argc, char** argv) {
         if (direct) depth = 1;
 
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
-        const std::string& sceneOption = options.scene.empty() ? "cornell_spheres"
-                                                               : options.scene;
         course::SceneFile sceneFile = course::loadSceneFile(
-            scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07).

@@ -4,7 +4,6 @@
 // lights in a uniform buffer, and two framebuffers take turns holding the running mean.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <numeric>
 #include <string>
 
@@ -17,16 +16,6 @@
 #include "gpu_scene.h"
 #include "scene_buffers.h"
 #include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
-
-// --scene NAME is assets/scenes/NAME.scene (an unknown name is bad usage, exit code
-// 2); anything with a '/' or '.' is a file (its mistakes are exit code 3).
-std::string scenePath(course::Session& session, const std::string& scene) {
-    if (scene.find_first_of("/.") != std::string::npos) return scene;
-    std::string path = session.assetPath("scenes/" + scene + ".scene");
-    if (!std::filesystem::exists(path))
-        course::fail(course::ExitCode::BadUsage, "unknown scene '" + scene + "': no " + path);
-    return path;
-}
 
 int main(int argc, char** argv) {
     course::CommandLine cli("Appendix A1: the path tracer as an OpenGL 3.3 fragment shader");
@@ -54,10 +43,8 @@ int main(int argc, char** argv) {
 
         // 1. The scene file, its meshes, and the packed texels and uniform block (exit
         //    code 3 on mistakes, or when the block's arrays are too small).
-        const std::string& sceneOption = options.scene.empty() ? "cornell_spheres"
-                                                               : options.scene;
         course::SceneFile sceneFile = course::loadSceneFile(
-            scenePath(session, sceneOption), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07), and it is

@@ -38,6 +38,10 @@ public:
     Stats& stats() { return stats_; }
     const std::string& shaderDir() const { return shaderDir_; }
     std::string assetPath(const std::string& relative) const;
+    // The scene file --scene names, or `defaultScene` without it: a NAME is
+    // assets/scenes/NAME.scene (an unknown name is bad usage, exit code 2); anything
+    // with a '/' or '.' is a file, as given (its mistakes are the reader's: exit code 3).
+    std::string scenePath(const std::string& defaultScene) const;
 
     // Compiles a compute shader from the checkpoint's shader folder. The session keeps
     // it, so window mode can hot-reload it; the reference stays valid.

@@ -106,3 +106,12 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     return kind >= 0;
 }
 // --8<-- [end:nearest]
+
+// --8<-- [start:any_hit]
+// Is anything in the way between tMin and tMax? Chapter 09's question, answered here
+// by the nearest hit, which tests every shape anyway (chapter 13's tree can stop early).
+bool anyHit(Ray ray, float tMin, float tMax) {
+    Hit hit;
+    return nearestHit(ray, tMin, tMax, hit);
+}
+// --8<-- [end:any_hit]

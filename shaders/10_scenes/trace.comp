@@ -12,7 +12,6 @@
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 layout(std430, binding = PIXELS_BINDING) buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
-
 uniform uvec2 imageSize;
 uniform int view;            // VIEW_SHADED, VIEW_NOISE or VIEW_AO
 uniform uint sampleIndex;    // how many samples the image holds already
@@ -45,20 +44,22 @@ vec3 cosineDirection(vec3 normal, inout RandomState random) {
 // Ambient occlusion: the share of the sky above a point that nothing nearby hides,
 // cosine-weighted. One sample is 1 or 0; the mean over samples converges to it.
 float ambientOcclusion(Hit hit, inout RandomState random) {
-    Ray ray = Ray(offsetFromSurface(hit.position, hit.geometricNormal),
-                  cosineDirection(hit.normal, random));
+    vec3 origin = offsetFromSurface(hit.position, hit.geometricNormal);
+    Ray ray = Ray(origin, cosineDirection(hit.normal, random));
     if (dot(ray.direction, hit.geometricNormal) <= 0.0) return 0.0;  // into the surface
-    Hit blocker;
-    return nearestHit(ray, 0.0, aoDistance, blocker) ? 0.0 : 1.0;
+    return anyHit(ray, 0.0, aoDistance) ? 0.0 : 1.0;
 }
 // --8<-- [end:ao]
 
 // --8<-- [start:sample]
 vec3 traceSample(uvec2 pixel, inout RandomState random) {
     if (view == VIEW_NOISE) return vec3(random01(random));
-    // A random point in the pixel (chapter 09's anti-aliasing); x drawn first.
-    float x = random01(random);
-    Ray ray = primaryRay(pixel, imageSize, vec2(x, random01(random)));
+    // --8<-- [start:jitter]
+    // A random point in the pixel instead of its centre: averaged over samples, the
+    // pixel shows the mean of the scene over its area, and edges are no longer stairs.
+    vec2 pointInPixel = vec2(random01(random), random01(random));
+    Ray ray = primaryRay(pixel, imageSize, pointInPixel);
+    // --8<-- [end:jitter]
     Hit hit;
     // Out of the scene, or the back of a surface: black. Surfaces have a front now,
     // the side a quad's edges or a triangle's corners turn counter-clockwise about.
@@ -81,11 +82,13 @@ void main() {
     uint index = pixel.y * imageSize.x + pixel.x;
 
     // --8<-- [start:accumulate]
-    // As in chapter 09: the pixel's generator continues from the previous dispatch,
-    // and the image holds the running mean of the samples.
+    // Take the pixel's generator out of the buffer, draw, and put it back advanced: the
+    // next dispatch continues the same stream, however the dispatches are grouped.
     RandomState random = randomStates[index];
     vec3 color = traceSample(pixel, random);
     randomStates[index] = random;
+    // The running mean of the samples so far, so the image is always the estimate:
+    // mean(n + 1) = mean(n) + (sample - mean(n)) / (n + 1).
     vec3 mean = sampleIndex == 0u ? vec3(0.0) : pixels[index].rgb;
     mean += (color - mean) / float(sampleIndex + 1u);
     pixels[index] = vec4(mean, 1.0);

@@ -239,9 +239,7 @@ CATALOGUE["09"] = CHAPTER_09
 # ---------------------------------------------------------------- chapter 10
 
 S = "10_scenes"
-PIXEL_POINT = """    float x = random01(random);
-    Ray ray = primaryRay(pixel, imageSize, vec2(x, random01(random)));
-"""
+PIXEL_POINT = "    vec2 pointInPixel = vec2(random01(random), random01(random));\n"
 AO_DIRECTION = """    float radius = sqrt(random01(random)), angle = 2.0 * PI * random01(random);
 """
 QUAD_INSIDE = "    return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;\n"
@@ -250,7 +248,7 @@ PREVIEW = "    return material.emission.rgb + material.albedo.rgb * occlusion;\n
 CHAPTER_10 = [
     Variant(S, "pixel point drawn y first", True, (
         Edit("shaders/trace.comp", PIXEL_POINT, """    float y = random01(random);
-    Ray ray = primaryRay(pixel, imageSize, vec2(random01(random), y));
+    vec2 pointInPixel = vec2(random01(random), y);
 """),)),
     Variant(S, "cosine directions by the angle drawn first", True, (
         Edit("shaders/trace.comp", AO_DIRECTION, """    float angle = 2.0 * PI * random01(random), radius = sqrt(random01(random));
