@@ -16,7 +16,7 @@ struct GpuScene {
     std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
     std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
     std::vector<gpu::Material> materials;
-    float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
+    float size = 1.0f;  // the diagonal of the scene's bounding box: how far is near
 
     size_t shapeCount() const { return spheres.size() + quads.size() + triangles.size(); }
 };
