@@ -57,6 +57,7 @@ TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two s
 # so it takes fewer.
 PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=2048)
 TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=512)
+PREVIEW_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=1024)
 # Chapter 13's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=2048)
@@ -139,6 +140,18 @@ SPECS: dict[str, list[GradeTest]] = {
                   "statistical", sampling=TEAPOT_SAMPLING),
         GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
                   "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
+    ],
+    # Chapter 10: the preview is random too (a random point in each pixel, ambient
+    # occlusion by random rays): graded by expectation. Surfaces alone (no occlusion
+    # within reach) probe the quad and sphere tests and the materials; the preview
+    # probes the occlusion; the gems probe triangles from a mesh file.
+    "10": [
+        GradeTest("Cornell spheres, surfaces and materials", 4,
+                  [*TINY, "--ao-distance", "1e-7"], "statistical", sampling=PREVIEW_SAMPLING),
+        GradeTest("Cornell spheres, ambient occlusion preview", 3, TINY, "statistical",
+                  sampling=PREVIEW_SAMPLING),
+        GradeTest("gems, ambient occlusion preview", 3, [*TINY, "--scene", "cornell_gems"],
+                  "statistical", "after_due_date", sampling=PREVIEW_SAMPLING),
     ],
     # Chapter 11: a path-traced picture is random, and any correct sampler of the same
     # directions may draw its numbers in another order or map them another valid way:
