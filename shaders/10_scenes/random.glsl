@@ -28,13 +28,10 @@ uint lcgStep(inout uint z) {
 
 // The next 32 random bits of this pixel's stream; advances the state.
 uint nextRandom(inout RandomState state) {
-    // BEGIN SOLUTION step all four generators and XOR their outputs
     return tausStep(state.words.x, 13, 19, 12, 4294967294u)
          ^ tausStep(state.words.y, 2, 25, 4, 4294967288u)
          ^ tausStep(state.words.z, 3, 11, 17, 4294967280u)
          ^ lcgStep(state.words.w);
-    // STUB: return 0u;
-    // END SOLUTION
 }
 
 // A float in [0, 1): the top 24 bits, which a float holds exactly, times 2^-24. (The
