@@ -117,6 +117,13 @@ public:
                                               materialKindWord(material.kind) +
                                               ": this program renders only diffuse "
                                               "materials ('albedo R G B')");
+        if (accepted_ == AcceptedMaterials::Opaque)
+            for (const SceneMaterial& material : scene_.materials)
+                if (material.kind == MaterialKind::Dielectric)
+                    failAt(material.line, "material " + inQuotes(material.name) +
+                                              " is a dielectric: this program renders only "
+                                              "opaque materials (albedo, mirror, conductor); "
+                                              "glass comes in chapter 16");
         if (cameraLine_ == 0)
             failAt(0, "no camera: a scene needs one 'camera' line");
         if (scene_.emitterCount() == 0)

@@ -131,8 +131,9 @@ struct SceneFile {
 // --8<-- [end:types]
 
 // Which materials a program renders: a material of another kind is exit code 3 at
-// its line, rather than a picture that silently shows it as something else.
-enum class AcceptedMaterials { DiffuseOnly, All };
+// its line, rather than a picture that silently shows it as something else. Opaque:
+// diffuse, mirror and conductor, everything light does not pass through (no glass).
+enum class AcceptedMaterials { DiffuseOnly, Opaque, All };
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
 // scene file's own folder.
