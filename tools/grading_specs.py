@@ -51,6 +51,7 @@ SMALL = ["--width", "96", "--height", "72"]
 ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
 TINY = ["--width", "32", "--height", "32"]  # statistical tests: many small runs
 TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two sizes
+PLATES = ["--scene", "glossy_plates"]  # assets/scenes: four rough metals, four lamps
 # Samples of the statistical tests (tools/grading_statistics.py): the submission's 8
 # runs at its own seeds against the solution's 4 runs of many samples (and 8 of the
 # submission's samples, for its noise). Chapter 09 traces every triangle for every ray,
@@ -218,6 +219,22 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("gems, nearest hits and traversal work", 4,
                   ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
                   "traversal", visibility="after_due_date"),
+    ],
+    # Chapter 15: mirrors and metals, graded by expectation as chapter 12. Each test
+    # probes other code: direct light (NEE through the rough gold's eval: D, G and the
+    # conductor's Fresnel; copper's Fresnel seen in the light's reflection), the whole
+    # picture (every material, light after a mirror), and the glossy plates by BSDF
+    # sampling alone (the visible normals and their density at four roughnesses).
+    "15": [
+        GradeTest("metals, direct light", 3, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("metals, global illumination", 3, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("glossy plates, BSDF sampling only", 2,
+                  [*TINY, *PLATES, "--estimator", "bsdf"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("glossy plates", 2, [*TINY, *PLATES], "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
     ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer

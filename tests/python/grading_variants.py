@@ -372,6 +372,66 @@ CHAPTER_14 = [
 CATALOGUE["14"] = CHAPTER_14
 
 
+# ---------------------------------------------------------------- chapter 15
+
+M = "15_metals"
+FRESNEL = """    vec2 n = vec2(eta, k), c = vec2(cosI, 0.0);
+    vec2 nSquared = complexMul(n, n);
+    vec2 nCosT = complexSqrt(nSquared - vec2(1.0 - cosI * cosI, 0.0));
+    vec2 rs = complexDiv(c - nCosT, c + nCosT);
+    vec2 rp = complexDiv(complexMul(nSquared, c) - nCosT, complexMul(nSquared, c) + nCosT);
+    return 0.5 * (dot(rs, rs) + dot(rp, rp));
+"""
+# The same reflectance in real arithmetic (pbrt-v3's FrConductor, outside index 1).
+FRESNEL_REAL = """    float cos2 = cosI * cosI, sin2 = 1.0 - cos2;
+    float t0 = eta * eta - k * k - sin2;
+    float a2plusb2 = sqrt(t0 * t0 + 4.0 * eta * eta * k * k);
+    float a = sqrt(max(0.0, 0.5 * (a2plusb2 + t0)));
+    float t1 = a2plusb2 + cos2, t2 = 2.0 * cosI * a;
+    float rs = (t1 - t2) / (t1 + t2);
+    float t3 = cos2 * a2plusb2 + sin2 * sin2, t4 = t2 * sin2;
+    return 0.5 * (rs + rs * (t3 - t4) / (t3 + t4));
+"""
+LAMBDA = "    float lambda = 0.5 * (sqrt(1.0 + alpha * alpha * tanSquared) - 1.0);\n"
+D_VALUE = "    return 1.0 / (PI * alpha2 * stretched * stretched);\n"
+
+CHAPTER_15 = [
+    Variant(M, "conductor Fresnel in real arithmetic (pbrt's form)", True, (
+        Edit("shaders/microfacet.glsl", FRESNEL, FRESNEL_REAL),)),
+    Variant(M, "G1 as 2 / (1 + sqrt(1 + alpha^2 tan^2))", True, (
+        Edit("shaders/microfacet.glsl", LAMBDA + "    return 1.0 / (1.0 + lambda);\n",
+             "    return 2.0 / (1.0 + sqrt(1.0 + alpha * alpha * tanSquared));\n"),)),
+    Variant(M, "GGX D written with cos^4 and tan^2", True, (
+        Edit("shaders/microfacet.glsl", D_VALUE,
+             "    float cos2 = m.z * m.z, tan2 = (1.0 - cos2) / cos2;\n"
+             "    float b = 1.0 + tan2 / alpha2;\n"
+             "    return 1.0 / (PI * alpha2 * cos2 * cos2 * b * b);\n"),)),
+    Variant(M, "visible normals with u.x and u.y swapped", True, (
+        Edit("shaders/microfacet.glsl", "    vec2 p = squareToDisk(u);\n",
+             "    vec2 p = squareToDisk(u.yx);\n"),)),
+
+    Variant(M, "conductor Fresnel with eta and k swapped", False, (
+        Edit("shaders/microfacet.glsl", "vec2 n = vec2(eta, k)", "vec2 n = vec2(k, eta)"),)),
+    Variant(M, "the pdf without the reflection's Jacobian 1 / (4 wo.m)", False, (
+        Edit("shaders/microfacet.glsl",
+             "return visibleNormalPdf(wi, m, alpha) / (4.0 * dot(wo, m));",
+             "return visibleNormalPdf(wi, m, alpha);"),)),
+    Variant(M, "the half vector not normalised", False, (
+        Edit("shaders/microfacet.glsl", "    vec3 m = normalize(wi + wo);\n    float value",
+             "    vec3 m = wi + wo;\n    float value"),)),
+    Variant(M, "Smith's Lambda with alpha where alpha^2 belongs", False, (
+        Edit("shaders/microfacet.glsl", LAMBDA,
+             LAMBDA.replace("alpha * alpha * tanSquared", "alpha * tanSquared")),)),
+    Variant(M, "GGX D without its 1 / pi", False, (
+        Edit("shaders/microfacet.glsl", D_VALUE,
+             "    return 1.0 / (alpha2 * stretched * stretched);\n"),)),
+    Variant(M, "light after a mirror MIS-weighted as if NEE had looked there", False, (
+        Edit("shaders/path.comp", "afterDelta = isDelta(material);", "afterDelta = false;"),)),
+]
+
+CATALOGUE["15"] = CHAPTER_15
+
+
 # ---------------------------------------------------------------- appendix A1
 
 G = "A1_gl33_fragment"
