@@ -23,15 +23,12 @@ vec2 complexSqrt(vec2 z) {
 // a metal of complex index n = eta + i k: the dielectric's formulas with n complex,
 // where Snell's law gives n cos(theta_t) = sqrt(n^2 - sin^2(theta_i)).
 float fresnelConductor(float cosI, float eta, float k) {
-    // BEGIN SOLUTION the s- and p-polarised amplitudes, then the mean of their powers
     vec2 n = vec2(eta, k), c = vec2(cosI, 0.0);
     vec2 nSquared = complexMul(n, n);
     vec2 nCosT = complexSqrt(nSquared - vec2(1.0 - cosI * cosI, 0.0));
     vec2 rs = complexDiv(c - nCosT, c + nCosT);
     vec2 rp = complexDiv(complexMul(nSquared, c) - nCosT, complexMul(nSquared, c) + nCosT);
     return 0.5 * (dot(rs, rs) + dot(rp, rp));
-    // STUB: return 1.0;  // a perfect reflector: gold and copper come out grey
-    // END SOLUTION
 }
 
 // Per channel: eta and k are measured at a red, a green and a blue wavelength.
@@ -47,12 +44,9 @@ vec3 fresnelConductor(float cosI, vec3 eta, vec3 k) {
 // surface's own: the integral of D(m) cos(theta_m) over the hemisphere is 1.
 float ggxD(vec3 m, float alpha) {
     if (m.z <= 0.0) return 0.0;  // every microfacet faces up
-    // BEGIN SOLUTION D = 1 / (pi alpha^2 ((x^2 + y^2) / alpha^2 + z^2)^2)
     float alpha2 = alpha * alpha;
     float stretched = (m.x * m.x + m.y * m.y) / alpha2 + m.z * m.z;
     return 1.0 / (PI * alpha2 * stretched * stretched);
-    // STUB: return m.z / PI;  // a cosine lobe: the same for every roughness
-    // END SOLUTION
 }
 
 // Smith's G1: the fraction of the microfacets with normal m that direction v sees,
@@ -60,12 +54,9 @@ float ggxD(vec3 m, float alpha) {
 // A microfacet turned away from v (v.m of another sign than v.z) is not seen at all.
 float ggxG1(vec3 v, vec3 m, float alpha) {
     if (dot(v, m) * v.z <= 0.0) return 0.0;
-    // BEGIN SOLUTION Lambda = (sqrt(1 + alpha^2 tan^2(theta_v)) - 1) / 2
     float tanSquared = (v.x * v.x + v.y * v.y) / (v.z * v.z);
     float lambda = 0.5 * (sqrt(1.0 + alpha * alpha * tanSquared) - 1.0);
     return 1.0 / (1.0 + lambda);
-    // STUB: return 1.0;  // nothing hidden: rough metals glow at grazing angles
-    // END SOLUTION
 }
 
 // Masking (from wi) and shadowing (from wo) as independent events: Mitsuba 3's choice.
@@ -91,7 +82,6 @@ vec2 squareToDisk(vec2 u) {
 // (1/alpha, 1/alpha, 1); stretched into a hemisphere, its visible normals are its
 // points, spread evenly over the disk they cover as seen from (stretched) wi.
 vec3 sampleVisibleNormal(vec3 wi, float alpha, vec2 u) {
-    // BEGIN SOLUTION stretch, pick a point on the projected half disk, lift, unstretch
     vec3 wiStretched = normalize(vec3(alpha * wi.xy, wi.z));
     // A frame around it: t1 across the plane of incidence (Mitsuba's -y from above).
     float across = length(wiStretched.xy);
@@ -108,8 +98,6 @@ vec3 sampleVisibleNormal(vec3 wi, float alpha, vec2 u) {
     float height = sqrt(max(0.0, 1.0 - dot(p, p)));
     vec3 normal = p.x * t1 + p.y * t2 + height * wiStretched;
     return normalize(vec3(alpha * normal.xy, max(0.0, normal.z)));
-    // STUB: return vec3(0.0, 0.0, 1.0);  // the macro-surface's normal: a mirror
-    // END SOLUTION
 }
 
 // The density of sampleVisibleNormal's m, per steradian of m: the microfacets with
