@@ -5,6 +5,7 @@ its images, and compare them with a reference."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 import shutil
@@ -148,29 +149,61 @@ def copy_shaders(prefix: str, destination: Path) -> Path:
     return target
 
 
+# A region whose light fewer pixels than this carry (the light seen in a small mirror)
+# is judged by the spread of the plain difference: see region_standard_error.
+SPREAD_FOR_A_RATIO = 10
+
+
+def region_standard_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The standard error (3,) of mean(a) - mean(b) for one region's pixels (n, 3) of
+    two renders with independent noise, estimated from the spread of their differences.
+
+    The plain difference a - b also spreads with the picture itself when a is wrong by a
+    factor (a = c b: (c - 1) b varies from pixel to pixel), so a region only too dark
+    or too bright widens its own error bar and may pass: a glossy sphere half as bright,
+    whose pixels range from dark to the lamp's highlight, would. So the spread is taken of
+    a - ratio b, ratio = mean(a) / mean(b): what is left is the noise, which is what the
+    difference of the means is to be measured against (the ratio estimator's standard
+    error). Where a few pixels carry most of the region's light, though, the ratio is
+    theirs and their own noise cancels out of the spread; there the plain difference's
+    spread is kept, which errs on the wide side (tests/python/test_regions_agreeing.py
+    shows both)."""
+    n = len(a)
+    brightness = (a + b).mean(axis=-1)
+    pixels_carrying_light = brightness.sum() ** 2 / max((brightness ** 2).sum(), 1e-300)
+    if pixels_carrying_light >= SPREAD_FOR_A_RATIO:
+        mean_b = b.mean(axis=0)
+        ratio = np.divide(a.mean(axis=0), mean_b, out=np.ones(3), where=mean_b > 0)
+        difference = a - ratio * b
+    else:
+        difference = a - b
+    return difference.std(axis=0) / math.sqrt(n)
+
+
 def regions_agreeing(a: np.ndarray, b: np.ndarray, scene_file: Path,
                      sigmas: float = 4.5, mesh_folders=(),
                      most_relative: float | None = None) -> list[str]:
     """Two renders of one scene (linear, same size), compared region by region (the
     pixels that see only one named shape: python_prototypes/mitsuba_reference.py): each
-    region's mean must differ by less than `sigmas` standard errors of the difference,
-    and, with most_relative, the means' brightness (RGB averaged) by less than that
-    fraction of b's. Regions of fewer than 20 pixels have no useful spread and are left
-    out. Returns the regions compared, for the caller to check."""
+    region's mean must differ by less than `sigmas` standard errors of the difference
+    (region_standard_error), and, with most_relative, the means' brightness (RGB
+    averaged) by less than that fraction of b's. Regions of fewer than 20 pixels have no
+    useful spread and are left out. Returns the regions compared, for the caller to
+    check."""
     import mitsuba_reference
     import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     masks = mitsuba_reference.region_masks(scene, a.shape[1], a.shape[0])
     means_a = mitsuba_reference.region_means(a, masks)
     means_b = mitsuba_reference.region_means(b, masks)
-    errors = mitsuba_reference.region_standard_errors(a, b, masks)
     compared = []
     for region, mask in masks.items():
         if mask.sum() < 20:
             continue
         difference = np.abs(means_a[region] - means_b[region])
-        assert np.all(difference < sigmas * errors[region] + 1e-6), \
-            (region, means_a[region], means_b[region], errors[region])
+        error = region_standard_error(a[mask].astype(np.float64), b[mask].astype(np.float64))
+        assert np.all(difference < sigmas * error + 1e-6), \
+            (region, means_a[region], means_b[region], error)
         if most_relative is not None:
             relative = means_a[region].mean() / means_b[region].mean() - 1
             assert abs(relative) < most_relative, (region, relative)
