@@ -2,9 +2,10 @@
 // Chapter 16: chapter 15's path tracer with glass. At each bounce the material's BSDF
 // (bsdf.glsl) evaluates, weighs and samples; a delta BSDF (a mirror, a smooth metal,
 // smooth glass) skips next-event estimation. Rays now enter glass: a hit on the back
-// of a glass surface is the ray leaving it, where every other back is black. Each dispatch adds one sample to
-// every pixel; the image holds the running mean. --view shows what the camera rays
-// hit, how hard the tree worked for them, or random bounce rays.
+// of a glass surface is the ray leaving it, where every other back is black. Each
+// dispatch adds one sample to every pixel; the image holds the running mean. --view
+// shows what the camera rays hit, how hard the tree worked for them, or random bounce
+// rays.
 #include "shared.h"
 #include "random.glsl"
 #include "camera.glsl"
@@ -35,8 +36,9 @@ layout(std430, binding = BOUNCE_START_BINDING) buffer BounceStarts {
 const float FOREVER = 3.0e38;
 
 // --8<-- [start:offset]
-// A point just off the surface, on the side `normal` points to: float32 rounds a hit point to within a
-// few units in the last place of its coordinates, so the gap grows with their size.
+// A point just off the surface, on the side `normal` points to: float32 rounds a hit
+// point to within a few units in the last place of its coordinates, so the gap grows
+// with their size.
 vec3 offsetFromSurface(vec3 position, vec3 normal) {
     vec3 size = abs(position);
     return position + RAY_OFFSET * (1.0 + max(size.x, max(size.y, size.z))) * normal;
@@ -107,7 +109,6 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
             }
             radiance += throughput * material.emission * weight;
         }
-        // --8<-- [start:sides]
         // A surface's back is black (as Mitsuba's), except glass's: a ray that meets
         // it is inside, on its way out. --depth ends the path.
         bool glass = material.kind == MATERIAL_DIELECTRIC;
@@ -116,7 +117,6 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
         // the path ends (chapter 11's rule for a front, now for both sides).
         if (dot(hit.normal, ray.direction) * dot(hit.geometricNormal, ray.direction) <= 0.0)
             break;
-        // --8<-- [end:sides]
 
         // 2. Light from the emitters straight to this point (next-event estimation),
         //    except at a delta BSDF, which reflects none of it.
