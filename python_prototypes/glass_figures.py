@@ -76,8 +76,8 @@ def draw_rays(axes, eta, from_inside):
     axes.fill_between([-1.1, 1.1], *glass, color="#cfe3f7", alpha=0.6, zorder=0)
     axes.text(-1.05, 1.0, "glass" if from_inside else "air", va="top")
     axes.text(-1.05, -1.0, "air" if from_inside else "glass", va="bottom")
-    axes.text(0.55, -1.0 if not from_inside else 1.0, "dotted: reflected (darker: more)",
-              va="bottom" if not from_inside else "top", fontsize=8)
+    axes.text(0.98, 0.98, "solid: arriving, refracted\ndotted: reflected (darker: more)",
+              transform=axes.transAxes, ha="right", va="top", fontsize=8)
     critical = critical_angle(eta)
     axes.set_title(f"from inside (η = {eta:g}): critical angle {critical:.1f}°" if from_inside
                    else f"from outside (η = {eta:g})")
