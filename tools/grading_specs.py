@@ -236,6 +236,19 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("glossy plates", 2, [*TINY, *PLATES], "statistical", "after_due_date",
                   sampling=PATH_SAMPLING),
     ],
+    # Chapter 16: glass, graded by expectation as chapter 15. What a student writes is
+    # the dielectric's Fresnel equations and Snell's law; each test sees them in other
+    # light: the two glass spheres (smooth: the delta's choice between reflection and
+    # refraction; rough: the same at every microfacet, through NEE and MIS), the gems
+    # (total internal reflection, four indices, triangles) and the showcase's field of
+    # glass among the other materials.
+    "16": [
+        GradeTest("glass spheres", 4, TINY, "statistical", sampling=PATH_SAMPLING),
+        GradeTest("glass gems", 3, [*TINY, "--scene", "cornell_gem_glass"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("showcase", 3, [*TINY, "--scene", "showcase"], "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
     # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);

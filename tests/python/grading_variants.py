@@ -432,6 +432,61 @@ CHAPTER_15 = [
 CATALOGUE["15"] = CHAPTER_15
 
 
+# ---------------------------------------------------------------- chapter 16
+
+GL = "16_glass"
+DIELECTRIC_AMPLITUDES = """    float rs = (cosIAbs - etaIT * cosTAbs) / (cosIAbs + etaIT * cosTAbs);
+    float rp = (etaIT * cosIAbs - cosTAbs) / (etaIT * cosIAbs + cosTAbs);
+"""
+REFRACTION = """    vec3 alongSurface = wi - dot(wi, m) * m;
+    return cosT * m - etaTI * alongSurface;
+"""
+
+CHAPTER_16 = [
+    Variant(GL, "Fresnel amplitudes with both signs flipped (same squares)", True, (
+        Edit("shaders/dielectric.glsl", DIELECTRIC_AMPLITUDES,
+             "    float rs = (etaIT * cosTAbs - cosIAbs) / (cosIAbs + etaIT * cosTAbs);\n"
+             "    float rp = (cosTAbs - etaIT * cosIAbs) / (etaIT * cosIAbs + cosTAbs);\n"),)),
+    Variant(GL, "Fresnel in pbrt's form with eta_i and eta_t", True, (
+        Edit("shaders/dielectric.glsl", DIELECTRIC_AMPLITUDES,
+             "    float etaI = 1.0, etaT = etaIT;  // relative indices: the same ratios\n"
+             "    float rs = (etaI * cosIAbs - etaT * cosTAbs)\n"
+             "               / (etaI * cosIAbs + etaT * cosTAbs);\n"
+             "    float rp = (etaT * cosIAbs - etaI * cosTAbs)\n"
+             "               / (etaT * cosIAbs + etaI * cosTAbs);\n"),)),
+    Variant(GL, "refraction by GLSL's refract() about the normal on wi's side", True, (
+        Edit("shaders/dielectric.glsl", REFRACTION,
+             "    return refract(-wi, dot(wi, m) > 0.0 ? m : -m, etaTI);\n"),)),
+    Variant(GL, "the smooth lobe chosen by u < F rather than u <= F", True, (
+        Edit("shaders/dielectric.glsl", "if (u <= fresnel.reflectance) return",
+             "if (u < fresnel.reflectance) return"),)),
+
+    Variant(GL, "Fresnel with the indices swapped (eta_i / eta_t for eta_t / eta_i)", False, (
+        Edit("shaders/dielectric.glsl", "float etaIT = fromOutside ? eta : 1.0 / eta;",
+             "float etaIT = fromOutside ? 1.0 / eta : eta;"),)),
+    Variant(GL, "Snell's law with eta_t / eta_i: rays bend the wrong way", False, (
+        Edit("shaders/dielectric.glsl", REFRACTION,
+             REFRACTION.replace("cosT * m - etaTI * alongSurface",
+                                "cosT * m - (1.0 / etaTI) * alongSurface")),)),
+    Variant(GL, "the refracted direction's surface part not turned round", False, (
+        Edit("shaders/dielectric.glsl", REFRACTION,
+             REFRACTION.replace("cosT * m - etaTI", "cosT * m + etaTI")),)),
+    Variant(GL, "no case for total internal reflection (cos theta_t is NaN)", False, (
+        Edit("shaders/dielectric.glsl",
+             "    if (sinTSquared >= 1.0) return Fresnel(1.0, 0.0, etaIT, etaTI);  "
+             "// total reflection\n", ""),)),
+    Variant(GL, "Fresnel's s amplitude with cos theta_t where cos theta_i belongs", False, (
+        Edit("shaders/dielectric.glsl", DIELECTRIC_AMPLITUDES, DIELECTRIC_AMPLITUDES.replace(
+            "(cosIAbs - etaIT * cosTAbs) / (cosIAbs + etaIT * cosTAbs)",
+            "(cosTAbs - etaIT * cosIAbs) / (cosTAbs + etaIT * cosIAbs)")),)),
+    Variant(GL, "the back of glass black, as an opaque surface's", False, (
+        Edit("shaders/path.comp", "bool glass = material.kind == MATERIAL_DIELECTRIC;",
+             "bool glass = false;"),)),
+]
+
+CATALOGUE["16"] = CHAPTER_16
+
+
 # ---------------------------------------------------------------- appendix A1
 
 G = "A1_gl33_fragment"
