@@ -40,17 +40,14 @@ TEST_SCENES = ROOT / "tests" / "data" / "scenes"
 MESH_FOLDERS = [ROOT / "build" / "assets"]  # where the build writes the gems
 
 # The planted bugs: (file, the right line, the wrong one). Each must fail its check.
-FRESNEL_INDICES_SWAPPED = ("dielectric.glsl", "float etaIT = fromOutside ? eta : 1.0 / eta;",
-                           "float etaIT = fromOutside ? 1.0 / eta : eta;")
+FRESNEL_INDICES_SWAPPED = ("dielectric.glsl", "fromOutside ? eta : 1.0 / eta",
+                           "fromOutside ? 1.0 / eta : eta")
 NO_RADIANCE_SCALE = ("dielectric.glsl", "float radianceScale = fresnel.etaTI * fresnel.etaTI;",
                      "float radianceScale = 1.0;")
 # Without its own case, total internal reflection takes the square root of a negative
 # number for cos(theta_t): NaN, which poisons the path.
-NO_TOTAL_INTERNAL_REFLECTION = (
-    "dielectric.glsl",
-    "    if (sinTSquared >= 1.0) return Fresnel(1.0, 0.0, etaIT, etaTI);  "
-    "// total reflection\n",
-    "")
+NO_TOTAL_INTERNAL_REFLECTION = ("dielectric.glsl", "if (sinTSquared >= 1.0) return",
+                                "if (false) return")
 MISSING_TRANSMISSION_JACOBIAN = (
     "dielectric.glsl", ": transmissionJacobian(wi, wo, m, etaBeyond(wi, eta));", ": 1.0;")
 BUGS = {"fresnel_indices_swapped": FRESNEL_INDICES_SWAPPED,
