@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
         //    Mirrors and metals are welcome; glass is chapter 16's.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("cornell_metals"),
-                                  {COURSE_GENERATED_ASSET_DIR}, course::AcceptedMaterials::Opaque);
+                                  {COURSE_GENERATED_ASSET_DIR},
+                                  course::AcceptedMaterials::Opaque);
         GpuScene scene = packScene(sceneFile);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());
