@@ -475,10 +475,9 @@ CHAPTER_16 = [
         Edit("shaders/dielectric.glsl",
              "    if (sinTSquared >= 1.0) return Fresnel(1.0, 0.0, etaIT, etaTI);  "
              "// total reflection\n", ""),)),
-    Variant(GL, "Fresnel's s amplitude with cos theta_t where cos theta_i belongs", False, (
-        Edit("shaders/dielectric.glsl", DIELECTRIC_AMPLITUDES, DIELECTRIC_AMPLITUDES.replace(
-            "(cosIAbs - etaIT * cosTAbs) / (cosIAbs + etaIT * cosTAbs)",
-            "(cosTAbs - etaIT * cosIAbs) / (cosTAbs + etaIT * cosIAbs)")),)),
+    Variant(GL, "the index not inverted from inside (eta on both sides)", False, (
+        Edit("shaders/dielectric.glsl", "float etaIT = fromOutside ? eta : 1.0 / eta;",
+             "float etaIT = eta;"),)),
     Variant(GL, "the back of glass black, as an opaque surface's", False, (
         Edit("shaders/path.comp", "bool glass = material.kind == MATERIAL_DIELECTRIC;",
              "bool glass = false;"),)),
