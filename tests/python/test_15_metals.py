@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import path_checks
 import pytest
-from conftest import ROOT, read_pfm, regions_agreeing, run_chapter
+from conftest import ROOT, regions_agreeing, run_chapter
 from path_checks import SIGMAS, assert_agrees_with_mitsuba, mean_and_error
 
 import chi_square
@@ -255,50 +255,74 @@ def test_rough_metal_in_the_furnace_keeps_the_predicted_albedo(tmp_path, alpha):
 
 @pytest.fixture(scope="module")
 def mitsuba_metals():
-    """Mitsuba 3's render of cornell_metals at 64 x 64, 1024 spp, and the scene's
-    regions (at 64 x 64 each sphere has 36-129 pixels wholly its own)."""
+    """Mitsuba 3's render of cornell_metals at 64 x 64, 1024 spp."""
     pytest.importorskip("mitsuba")
     import mitsuba_reference
     import scene_io
     scene = scene_io.load_scene(str(SCENES / "cornell_metals.scene"), [])
     image, _ = mitsuba_reference.render_mitsuba(scene, 64, 64, 1024, 6, seed=0)
-    return np.asarray(image)[..., :3], mitsuba_reference.region_masks(scene, 64, 64)
+    return np.asarray(image)[..., :3]
 
 
-def relative_differences(ours, theirs, masks) -> dict:
-    """{region: (our brightness / Mitsuba's - 1, its standard error)}, RGB averaged."""
-    result = {}
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
-        ratio = a.mean() / b.mean()
-        # The noise of the ratio: the spread of a - ratio b, which a picture that is
-        # only too dark or too bright (a = ratio b) does not widen.
-        error = np.std(a - ratio * b, ddof=1) / math.sqrt(len(a)) / b.mean()
-        result[region] = (ratio - 1, error)
-    return result
-
-
-def assert_within_two_percent(ours, mitsuba_metals):
-    """Every region within 4.5 standard errors (the z-test of the other chapters) and
-    within 2% of Mitsuba's brightness, or within 4.5 of its standard errors where the
-    region is noisier than that (the mirror holds the light's image: a few very bright
-    pixels)."""
-    theirs, masks = mitsuba_metals
-    compared = regions_agreeing(ours, theirs, SCENES / "cornell_metals.scene", SIGMAS)
-    for region, (relative, error) in relative_differences(ours, theirs, masks).items():
-        print(f"{region}: {relative:+.2%} (standard error {error:.2%})")
-        assert abs(relative) < max(0.02, SIGMAS * error), (region, relative, error)
-    return compared
+def assert_agrees_in_every_region(ours, mitsuba_metals):
+    """Every region (walls and spheres) within 4.5 standard errors of Mitsuba's
+    (conftest.regions_agreeing: an error bar a region only too dark cannot widen)."""
+    return regions_agreeing(ours, mitsuba_metals, SCENES / "cornell_metals.scene", SIGMAS)
 
 
 def test_cornell_metals_agrees_with_mitsuba(tmp_path, mitsuba_metals):
     # A mirror, smooth copper and rough gold (alpha 0.2) in the Cornell room.
     ours = path_trace(tmp_path, "ours", "--width", 64, "--height", 64, "--spp", 512)
-    compared = assert_within_two_percent(ours, mitsuba_metals)
+    compared = assert_agrees_in_every_region(ours, mitsuba_metals)
     assert {"mirror_sphere", "copper_sphere", "gold_sphere"} <= set(compared)
     assert len(compared) >= 8
+
+
+def close_up(sphere_name: str, folder: Path) -> Path:
+    """cornell_metals.scene seen from the same eye, zoomed onto one sphere so that it
+    fills the picture: the same rays hit it, nine to sixteen times as many pixels."""
+    import scene_io
+    text = (SCENES / "cornell_metals.scene").read_text()
+    scene = scene_io.load_scene(str(SCENES / "cornell_metals.scene"), [])
+    sphere = next(s for s in scene.spheres if s.name == sphere_name)
+    eye = np.asarray(scene.camera.eye)
+    offset = np.asarray(sphere.center) - eye
+    distance = np.linalg.norm(offset)
+    half_angle = 1.08 * math.asin(sphere.radius / distance)  # a thin margin of room
+    sensor = 0.025
+    look = " ".join(f"{v:.6f}" for v in offset / distance)
+    camera = (f"camera eye {eye[0]} {eye[1]} {eye[2]} look {look} up 0 1 0 "
+              f"focal {sensor / 2 / math.tan(half_angle):.6f} sensor {sensor}")
+    lines = [camera if line.startswith("camera ") else line for line in text.splitlines()]
+    scene_file = folder / f"close_up_{sphere_name}.scene"
+    scene_file.write_text("\n".join(lines) + "\n")
+    return scene_file
+
+
+@pytest.mark.parametrize("sphere", ["mirror_sphere", "copper_sphere", "gold_sphere"])
+def test_each_metal_within_two_percent_of_mitsuba(tmp_path, sphere):
+    # Issue #16: each metal's brightness within 2% of Mitsuba 3's, measured closely
+    # enough to say so: the whole sphere (1,500-2,400 pixels) at 256 spp against
+    # Mitsuba's 1024, a standard error of 0.25-0.75% (the lamp in the copper and the
+    # mirror is most of their noise).
+    pytest.importorskip("mitsuba")
+    import mitsuba_reference
+    import scene_io
+    scene_file = close_up(sphere, tmp_path)
+    ours = path_trace(tmp_path, "ours", "--scene", scene_file, "--width", 64,
+                      "--height", 64, "--spp", 256)
+    scene = scene_io.load_scene(str(scene_file), [])
+    theirs, _ = mitsuba_reference.render_mitsuba(scene, 64, 64, 1024, 6, seed=0)
+    theirs = np.asarray(theirs, dtype=np.float64)[..., :3]
+    mask = mitsuba_reference.region_masks(scene, 64, 64)[sphere]
+    a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
+    relative = a.mean() / b.mean() - 1
+    error = np.std(a - (relative + 1) * b, ddof=1) / math.sqrt(len(a)) / b.mean()
+    print(f"{sphere}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels)")
+    assert mask.sum() > 1200
+    assert error < 0.01  # the measurement can tell 2% from 0
+    assert abs(relative) < 0.02, (sphere, relative, error)
+    regions_agreeing(ours, theirs, scene_file, SIGMAS)  # and colour by colour
 
 
 def test_glossy_plates_agree_with_mitsuba(tmp_path):
@@ -350,7 +374,7 @@ def test_planted_bug_fails_the_comparison_with_mitsuba(tmp_path, bug, mitsuba_me
     ours = path_trace(tmp_path, "bug", "--width", 64, "--height", 64, "--spp", 256,
                       shader_dir=shaders_with(tmp_path, bug))
     with pytest.raises(AssertionError):
-        assert_within_two_percent(ours, mitsuba_metals)
+        assert_agrees_in_every_region(ours, mitsuba_metals)
 
 
 def test_delta_bsdf_given_to_nee_fails_the_mirror_furnace(tmp_path):
