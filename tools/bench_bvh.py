@@ -13,20 +13,25 @@ loop limit, as the chapter measures it, lets it (Mesa 22's llvmpipe: 65 535 loop
 iterations per invocation, about 32 000 triangles): the chapter refuses the rest with
 exit code 4, and the table says so. Where there is no limit (Mesa 25's llvmpipe, a GPU),
 a brute-force run that the previous size's speed says would take more than
-BRUTE_FORCE_SECONDS is skipped, and the table says that too. Prints the speed-ups and
-the scaling, writes build/bench/bvh.json, the log-log figure
-book/docs/figures/bvh_scaling.png and the table in book/docs/benchmarks.md."""
+BRUTE_FORCE_SECONDS is skipped, and the table says that too. Each figure is the median
+of --repeat timed runs (after a warm-up), with their range in build/bench/bvh.json and
+the widest spread under the table. Prints the speed-ups and the scaling, writes
+build/bench/bvh.json and the log-log figure build/bench/bvh_scaling.png; with
+update_book (./course bench --update-book) the figure book/docs/figures/bvh_scaling.png
+and the table in book/docs/benchmarks.md as well."""
 
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python_prototypes"))
+sys.path.insert(0, str(ROOT / "tools"))
+import bench_common  # noqa: E402
 PAGE = ROOT / "book" / "docs" / "benchmarks.md"
 FIGURE = ROOT / "book" / "docs" / "figures" / "bvh_scaling.png"
 START, END = "<!-- bench-bvh:start -->", "<!-- bench-bvh:end -->"
@@ -64,8 +69,9 @@ def scene_with(mesh: Path) -> Path:
     return path
 
 
-def run(binary: Path, mesh: Path, rays: str, method: str) -> dict | None:
-    """The chapter's --json statistics, or None when it refuses (the loop limit)."""
+def run(binary: Path, mesh: Path, rays: str, method: str, repeat: int) -> list | None:
+    """The chapter's --json statistics of each of `repeat` timed runs, or None when it
+    refuses (the loop limit)."""
     command = [str(binary), "--headless", "--scene", str(scene_with(mesh)), "--width",
                str(SIZE), "--height", str(SIZE), "--spp", str(SPP[rays, method]), "--view",
                VIEWS[rays], "--out", str(SCRATCH / "bench.pfm"), "--json"]
@@ -73,17 +79,20 @@ def run(binary: Path, mesh: Path, rays: str, method: str) -> dict | None:
         command.append("--brute-force")
     # The first run of a shader compiles it (Mesa keeps it in its disk cache), and the
     # first run of a mesh reads it from disk: a warm-up run keeps both out of the timing.
-    for attempt in ("warm-up", "timed"):
+    timed = []
+    for attempt in range(1 + repeat):
         result = subprocess.run(command, capture_output=True, text=True)
         if result.returncode == REFUSED:
             return None
         if result.returncode != 0:
             raise SystemExit(f"{' '.join(command)} failed ({result.returncode}):\n"
                              f"{result.stderr}")
-    return json.loads(result.stdout.strip().splitlines()[-1])
+        if attempt > 0:
+            timed.append(json.loads(result.stdout.strip().splitlines()[-1]))
+    return timed
 
 
-def expected_seconds(records: list, triangles: int, rays: str) -> float:
+def expected_seconds(records: list, triangles: int, rays: str, repeat: int) -> float:
     """How long brute force should take at `triangles`, from its speed at the biggest
     size measured so far (its work grows with the triangles); 0 when there is none."""
     done = [r for r in records if r["rays"] == rays and r["method"] == "brute_force"]
@@ -92,40 +101,45 @@ def expected_seconds(records: list, triangles: int, rays: str) -> float:
     last = max(done, key=lambda r: r["triangles"])
     speed = last["rays_per_second"] * last["triangles"] / triangles
     rays_per_run = SIZE * SIZE * SPP[rays, "brute_force"]
-    return 2 * rays_per_run / speed  # the warm-up run and the timed one
+    return (1 + repeat) * rays_per_run / speed  # the warm-up run and the timed ones
 
 
-def bench(binary: Path, meshes: Path) -> dict:
-    records, builds, renderer, skipped = [], {}, "", []
+def bench(binary: Path, meshes: Path, repeat: int = 3) -> dict:
+    watch = bench_common.QuietWatch()
+    records, builds, machine, skipped = [], {}, None, []
     for triangles in TEAPOTS:
         mesh = meshes / f"teapot_{triangles}.obj"
         for rays in ("primary", "diffuse"):
             for method in ("bvh", "brute_force"):
                 print(f"{triangles:>8} triangles, {rays:<7} rays, {method:<11} ...",
                       end=" ", flush=True)
-                expected = expected_seconds(records, triangles, rays)
+                expected = expected_seconds(records, triangles, rays, repeat)
                 if method == "brute_force" and expected > BRUTE_FORCE_SECONDS:
                     print(f"skipped: would take about {expected / 60:.0f} minutes", flush=True)
                     skipped.append([triangles, rays])
                     continue
-                stats = run(binary, mesh, rays, method)
-                if stats is None:
+                runs = run(binary, mesh, rays, method, repeat)
+                if runs is None:
                     print("refused: beyond the GL's loop limit", flush=True)
                     continue
-                renderer = stats["renderer"]
-                speed = stats["rays_per_second"]
-                print(f"{speed:>12,.0f} rays/s", flush=True)
+                stats = runs[0]
+                machine = machine or bench_common.describe_machine(stats)
+                speeds = bench_common.summarise([r["rays_per_second"] for r in runs])
+                print(f"{speeds['median']:>12,.0f} rays/s, median of {repeat}, range "
+                      f"{bench_common.spread_words(speeds)}", flush=True)
                 records.append({"triangles": triangles, "rays": rays, "method": method,
-                                "rays_per_second": speed})
+                                "rays_per_second": speeds["median"], "spread": speeds})
                 builds[triangles] = {"build_ms": stats["bvh_build_ms"],
                                      "nodes": stats["bvh_nodes"],
                                      "node_bytes": stats["bvh_nodes"] * 64,
                                      "depth": stats["bvh_max_depth"],
                                      "sah_cost": stats["bvh_sah_cost"],
                                      "scene_triangles": stats["triangles"]}
-    return {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "title": renderer, "size": SIZE, "results": records, "builds": builds,
-            "loop_limit": loop_limit(binary), "skipped": skipped}
+    return {"date": bench_common.today(), "machine": machine,
+            "title": machine["gl_renderer"] if machine else "", "size": SIZE,
+            "repeat": repeat, "results": records, "builds": builds,
+            "loop_limit": loop_limit(binary), "skipped": skipped,
+            "quiet": watch.finish()}
 
 
 def speed(report: dict, triangles: int, rays: str, method: str) -> float | None:
@@ -136,9 +150,17 @@ def speed(report: dict, triangles: int, rays: str, method: str) -> float | None:
     return None
 
 
-def page_table(report: dict, machine: str) -> str:
-    lines = [f"Measured {report['date']} on {machine}, `{report['title']}`; "
-             f"{report['size']}² pixels, the teapot in the Cornell room (6 quads).", "",
+def widest_spread(report: dict) -> float:
+    return max((record["spread"]["spread"] for record in report["results"]), default=0.0)
+
+
+def page_table(report: dict) -> str:
+    lines = [f"Measured {report['date']} on "
+             f"{bench_common.machine_words(report['machine'])}; {report['size']}² pixels, "
+             "the teapot in the Cornell room (6 quads). Each figure is the median of "
+             f"{report['repeat']} runs; the widest range of a figure's runs was "
+             f"{100 * widest_spread(report):.0f}% of its median. "
+             f"{bench_common.quiet_words(report['quiet'])}", "",
              "| triangles | camera rays/s, BVH | brute force | speed-up "
              "| diffuse rays/s, BVH | brute force | speed-up |",
              "| ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
@@ -177,23 +199,23 @@ def page_table(report: dict, machine: str) -> str:
     return "\n".join(lines)
 
 
-def main(binary: Path, meshes: Path, machine: str) -> int:
+def main(binary: Path, meshes: Path, repeat: int = 3, update_book: bool = False,
+         page: Path = PAGE, figure: Path = FIGURE) -> int:
     SCRATCH.mkdir(parents=True, exist_ok=True)
-    report = bench(binary, meshes)
+    report = bench(binary, meshes, repeat)
     out = SCRATCH / "bvh.json"
     out.write_text(json.dumps(report, indent=2) + "\n")
     import bench_plot
-    FIGURE.parent.mkdir(parents=True, exist_ok=True)
-    bench_plot.draw_figure(report["title"], report["results"], FIGURE)
-    table = page_table(report, machine)
+    drawn = SCRATCH / FIGURE.name
+    bench_plot.draw_figure(report["title"], report["results"], drawn)
+    table = page_table(report)
     print(table)
-    text = PAGE.read_text()
-    if START not in text:
-        text += f"\n{START}\n{END}\n"
-    before, rest = text.split(START, 1)
-    _, after = rest.split(END, 1)
-    PAGE.write_text(f"{before}{START}\n{table}\n{END}{after}")
-    print(f"wrote {out}, {FIGURE} and {PAGE}")
+    print(f"bench: wrote {out} and {drawn}")
+    if update_book:
+        figure.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(drawn, figure)
+        print(f"bench: wrote {figure}")
+    bench_common.book_or_not(update_book, page, START, END, table)
     # The targets of the chapter (issue #6), checked where both sides could run.
     primary = (speed(report, 6320, "primary", "bvh") or 0) / (
         speed(report, 6320, "primary", "brute_force") or float("inf"))

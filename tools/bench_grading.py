@@ -6,9 +6,10 @@ solution is graded as a student's submission would be: copied out of the tree, e
 student's edited files), the grader and everything it starts pinned to core 0
 (sched_setaffinity, inherited like `taskset -c 0`). Its references are made first and
 not timed: an autograder image renders them at set-up (--prepare). Each chapter is
-graded --repeat times and the median printed; the solution must score full marks, or
-the bench exits with 1. Writes build/bench/grading.json and the table in
-book/docs/instructors.md."""
+graded --repeat times and the median printed with the range of the runs; the solution
+must score full marks, or the bench exits with 1. Writes build/bench/grading.json and
+prints the table; writes it into book/docs/instructors.md only with update_book
+(./course bench grading --update-book)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,6 @@ import json
 import os
 import platform
 import shutil
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -28,7 +28,7 @@ PAGE = ROOT / "book" / "docs" / "instructors.md"
 START, END = "<!-- bench-grading:start -->", "<!-- bench-grading:end -->"
 
 sys.path.insert(0, str(ROOT / "tools"))
-import bench  # noqa: E402  (cpu_model)
+import bench_common  # noqa: E402
 import grader  # noqa: E402
 from grading_specs import SPECS  # noqa: E402
 
@@ -72,13 +72,16 @@ def page_table(report: dict) -> str:
     lines = [f"Measured {report['date']} by `./course bench grading` on {report['cpu']}, "
              f"one core (of {report['cores']}), `{report['gl_renderer']}`, OpenGL "
              f"{report['gl_version']}; each chapter's solution graded as a submission, "
-             f"median of {report['repeat']}.", "",
+             f"median of {report['repeat']}. {bench_common.quiet_words(report['quiet'])}",
+             "",
              "| chapter | tests | runs of the program | seconds (one core) | "
-             "largest process (MiB) |",
-             "| --- | ---: | ---: | ---: | ---: |"]
+             "range of the gradings | largest process (MiB) |",
+             "| --- | ---: | ---: | ---: | ---: | ---: |"]
     for row in report["chapters"]:
         lines.append(f"| {row['chapter']} | {row['tests']} | {row['runs']} | "
-                     f"{row['seconds']:.1f} | {row['peak_mib']:.0f} |")
+                     f"{row['seconds']:.1f} | "
+                     f"{bench_common.spread_words(row['spread'], digits=1)} | "
+                     f"{row['peak_mib']:.0f} |")
     slowest = max(report["chapters"], key=lambda row: row["seconds"])
     lines += ["", f"The slowest, chapter {slowest['chapter'][:2]}, takes "
               f"{slowest['seconds']:.0f} s: within the 3-minute target, and far within "
@@ -98,18 +101,9 @@ def program_runs(chapter: str) -> int:
     return runs
 
 
-def write_page(report: dict):
-    text = PAGE.read_text()
-    if START not in text or END not in text:
-        print(f"bench: {PAGE} has no {START} ... {END}: table not written", file=sys.stderr)
-        return
-    head, rest = text.split(START, 1)
-    _, tail = rest.split(END, 1)
-    PAGE.write_text(f"{head}{START}\n{page_table(report)}\n{END}{tail}")
-
-
 def main(build: Path, chapters: list[str], repeat: int, gl_renderer: str,
-         gl_version: str) -> int:
+         gl_version: str, update_book: bool = False, page: Path = PAGE) -> int:
+    watch = bench_common.QuietWatch()
     status = 0
     rows = []
     for chapter in chapters:
@@ -127,20 +121,23 @@ def main(build: Path, chapters: list[str], repeat: int, gl_renderer: str,
                 print(f"bench: the solution of {chapter} scored {result['score']} of "
                       f"{result['max_score']}", file=sys.stderr)
                 status = 1
+        spread = bench_common.summarise(times)
         row = {"chapter": chapter, "tests": len(SPECS[chapter[:2]]),
-               "runs": program_runs(chapter), "seconds": statistics.median(times),
-               "peak_mib": max(peaks),
-               "all_seconds": times}
+               "runs": program_runs(chapter), "seconds": spread["median"],
+               "spread": spread, "peak_mib": max(peaks), "all_seconds": times}
         rows.append(row)
         print(f"{chapter:22} {row['seconds']:7.1f} s  "
               f"({', '.join(f'{t:.1f}' for t in times)})", flush=True)
-    report = {"date": time.strftime("%Y-%m-%d"), "cpu": bench.cpu_model(),
+    report = {"date": time.strftime("%Y-%m-%d"), "cpu": bench_common.cpu_model(),
               "cores": os.cpu_count(), "gl_renderer": gl_renderer,
-              "gl_version": gl_version, "repeat": repeat,
-              "python": platform.python_version(), "chapters": rows}
+              "gl_version": gl_version, "mesa": bench_common.mesa_version(gl_version),
+              "llvm": bench_common.llvm_version(gl_renderer), "repeat": repeat,
+              "python": platform.python_version(), "chapters": rows,
+              "quiet": watch.finish()}
     out = build / "bench" / "grading.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(report, indent=2))
+    print(page_table(report))
     print(out)
-    write_page(report)
+    bench_common.book_or_not(update_book, page, START, END, page_table(report))
     return status

@@ -519,18 +519,17 @@ def cmd_book(args):
 
 def cmd_bench(args):
     sys.path.insert(0, str(ROOT / "tools"))
-    import bench
+    if args.repeat < 1:
+        die("--repeat needs at least 1 run", code=2)
     status = 0
     if args.which in ("all", "mitsuba"):
-        build(["12_light_sampling"])
-        status |= bench.main(binary(find_chapter("12")), args.size, args.spp, args.depth)
+        status |= bench_against_mitsuba(args)
     if args.which in ("all", "bvh"):
         # The 100 000- and 1 000 000-triangle teapots are made only for this.
         build(["14_bvh_sah", "course_benchmark_assets"])
         import bench_bvh
-        machine = f"{bench.cpu_model()} ({os.cpu_count()} cores)"
         status |= bench_bvh.main(binary(find_chapter("14")), BUILD / "assets" / "meshes",
-                                 machine)
+                                 args.repeat, update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \
@@ -540,8 +539,23 @@ def cmd_bench(args):
                             capture_output=True, text=True)
         gl = json.loads(probe.stdout.strip().splitlines()[-1])
         status |= bench_grading.main(BUILD, graded, args.repeat, gl["renderer"],
-                                     gl["gl_version"])
+                                     gl["gl_version"], update_book=args.update_book)
     sys.exit(status)
+
+
+def bench_against_mitsuba(args) -> int:
+    """The Cornell box through chapter 12, the teapot through the newest chapter with a
+    BVH, each against Mitsuba 3 (tools/bench.py)."""
+    import bench
+    with_bvh = bench.newest_chapter_with_bvh(chapters())
+    box_chapter = find_chapter("12")
+    build([box_chapter, with_bvh])
+    scenes = [bench.Scene("cornell_box", "Cornell box", binary(box_chapter)),
+              bench.Scene("cornell_teapot", "teapot (6 320 triangles)",
+                          binary(with_bvh))]
+    settings = bench.Settings(args.size, args.spp, args.depth, args.repeat)
+    return bench.main(scenes, settings, update_book=args.update_book,
+                      mesh_folders=(BUILD / "assets",))
 
 
 def cmd_release(args):
@@ -687,17 +701,29 @@ def main():
                       help="the student edition, to publish: the starters' code instead of "
                       "the solutions, no answer notes (into book/site-student)")
 
-    bench = verbs.add_parser("bench", help="chapter 12 against Mitsuba 3 on the Cornell box; "
-                             "chapter 14's BVH against brute force, 552 to 1M triangles")
+    bench = verbs.add_parser(
+        "bench", help="our path tracer against Mitsuba 3 (Cornell box, teapot); chapter "
+        "14's BVH against brute force, 552 to 1M triangles",
+        description="Measures each figure --repeat times and reports the median with the "
+        "range of the runs, names the machine (CPU, cores, Mesa, LLVM, Mitsuba) and warns "
+        "when it was busy (1-minute load above 0.3 per core). Prints the tables and "
+        "writes build/bench/*.json; the book's pages change only with --update-book.")
     bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
                        default="all", help="which benchmark (default: mitsuba and bvh; "
+                       "mitsuba: the Cornell box through chapter 12 and the teapot through "
+                       "the newest chapter with a BVH, ours and Mitsuba's runs taking turns; "
                        "grading: one submission of each chapter on one core)")
     bench.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     bench.add_argument("--repeat", type=int, default=3,
-                       help="grading: gradings per chapter, the median reported (3)")
-    bench.add_argument("--size", type=int, default=256, help="image side (default 256)")
-    bench.add_argument("--spp", type=int, default=128, help="samples per pixel (128)")
-    bench.add_argument("--depth", type=int, default=6, help="bounces (default 6)")
+                       help="runs of each figure (gradings per chapter): the median and the "
+                       "range are reported (3)")
+    bench.add_argument("--update-book", action="store_true",
+                       help="write the tables (and the BVH figure) into the book's pages, "
+                       "book/docs/benchmarks.md and instructors.md; only from a quiet machine")
+    bench.add_argument("--size", type=int, default=256,
+                       help="mitsuba: image side (default 256)")
+    bench.add_argument("--spp", type=int, default=128, help="mitsuba: samples per pixel (128)")
+    bench.add_argument("--depth", type=int, default=6, help="mitsuba: bounces (default 6)")
 
     release = verbs.add_parser("release", help="write a student starter for a chapter",
                                description="Copies the checkpoint with every BEGIN/END "

@@ -1,0 +1,194 @@
+"""What every ./course bench needs: the machine's name (CPU, cores, Mesa, LLVM, Mitsuba),
+whether it was quiet while the bench ran, a median with its spread, and the one place
+that writes a table into a book page (only when --update-book asks for it)."""
+
+from __future__ import annotations
+
+import os
+import platform
+import re
+import resource
+import statistics
+import sys
+import time
+from pathlib import Path
+
+# Above this 1-minute load average per core, other work is taking CPU time from the
+# bench and its figures say more about the neighbours than about the renderers.
+QUIET_LOAD_PER_CORE = 0.3
+
+
+# ---------------------------------------------------------------- the machine
+
+def cpu_model() -> str:
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown"
+
+
+def mesa_version(gl_version: str) -> str | None:
+    """'4.5 (Core Profile) Mesa 22.3.6' -> '22.3.6'; None for a GL that is not Mesa."""
+    match = re.search(r"Mesa (\S+)", gl_version)
+    return match.group(1) if match else None
+
+
+def llvm_version(gl_renderer: str) -> str | None:
+    """'llvmpipe (LLVM 15.0.6, 256 bits)' -> '15.0.6'; None for a GPU's renderer."""
+    match = re.search(r"LLVM ([\w.]+)", gl_renderer)
+    return match.group(1) if match else None
+
+
+def mitsuba_version() -> str | None:
+    try:
+        import mitsuba
+    except ImportError:
+        return None
+    return mitsuba.__version__
+
+
+def describe_machine(program_stats: dict) -> dict:
+    """The machine, from /proc and from a chapter program's --json line (its GL strings)."""
+    renderer, gl_version = program_stats["renderer"], program_stats["gl_version"]
+    return {"cpu": cpu_model(), "cores": os.cpu_count(), "gl_renderer": renderer,
+            "gl_version": gl_version, "mesa": mesa_version(gl_version),
+            "llvm": llvm_version(renderer), "mitsuba": mitsuba_version(),
+            "python": platform.python_version()}
+
+
+def machine_words(machine: dict) -> str:
+    """'AMD EPYC (2 cores), Mesa 22.3.6 with LLVM 15.0.6 (`llvmpipe (...)`)'."""
+    words = f"{machine['cpu']} ({machine['cores']} cores), "
+    if machine.get("mesa"):
+        words += f"Mesa {machine['mesa']}"
+        words += f" with LLVM {machine['llvm']}" if machine.get("llvm") else ""
+    else:
+        words += f"OpenGL {machine['gl_version']}"
+    return words + f" (`{machine['gl_renderer']}`)"
+
+
+def today() -> str:
+    return time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+
+
+# ---------------------------------------------------------------- was it quiet?
+
+def busy_cpu_seconds() -> float | None:
+    """CPU time all processes have spent busy since boot (/proc/stat), or None."""
+    try:
+        fields = Path("/proc/stat").read_text().splitlines()[0].split()[1:]
+    except OSError:
+        return None
+    user, nice, system, idle, iowait, irq, softirq, steal = map(int, fields[:8])
+    return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+
+
+def own_cpu_seconds() -> float:
+    """CPU time of this process and its finished children (the renderers it ran)."""
+    return sum(usage.ru_utime + usage.ru_stime for usage in
+               (resource.getrusage(resource.RUSAGE_SELF),
+                resource.getrusage(resource.RUSAGE_CHILDREN)))
+
+
+class QuietWatch:
+    """Watches how busy the machine is around a bench: the 1-minute load average at the
+    start and the end, and the CPU time other processes took in between (the load at
+    the end counts the bench's own renders, so it alone cannot say whether others ran)."""
+
+    def __init__(self):
+        self.cores = os.cpu_count() or 1
+        self.load_start = os.getloadavg()[0]
+        self.wall_start = time.monotonic()
+        self.busy_start = busy_cpu_seconds()
+        self.own_start = own_cpu_seconds()
+        warn_if_busy(self.report_so_far())
+
+    def report_so_far(self) -> dict:
+        return {"cores": self.cores, "load_start": self.load_start,
+                "threshold": QUIET_LOAD_PER_CORE * self.cores,
+                "quiet": is_quiet(self.load_start, None, self.cores)}
+
+    def finish(self) -> dict:
+        wall = time.monotonic() - self.wall_start
+        busy = busy_cpu_seconds()
+        others = None
+        if busy is not None and self.busy_start is not None and wall > 0:
+            other_seconds = (busy - self.busy_start) - (own_cpu_seconds() - self.own_start)
+            others = max(other_seconds, 0.0) / wall  # cores' worth, on average
+        report = {**self.report_so_far(), "load_end": os.getloadavg()[0],
+                  "other_processes_cores": others,
+                  "quiet": is_quiet(self.load_start, others, self.cores)}
+        warn_if_busy(report)
+        return report
+
+
+def is_quiet(load_start: float, other_processes_cores: float | None, cores: int) -> bool:
+    """Quiet: the load at the start, and other processes' use of the CPU during the
+    bench (in cores), both at most QUIET_LOAD_PER_CORE per core."""
+    limit = QUIET_LOAD_PER_CORE * cores
+    return load_start <= limit and (other_processes_cores or 0.0) <= limit
+
+
+def quiet_words(quiet: dict) -> str:
+    """One sentence for the report: the loads, and whether the figures can be trusted."""
+    words = f"1-minute load average {quiet['load_start']:.2f} at the start"
+    if "load_end" in quiet:
+        words += f", {quiet['load_end']:.2f} at the end (the bench's own renders included)"
+    if quiet.get("other_processes_cores") is not None:
+        words += (f"; other processes used {quiet['other_processes_cores']:.2f} cores on "
+                  "average while it ran")
+    if quiet["quiet"]:
+        return f"The machine was quiet: {words}."
+    return (f"**The machine was NOT quiet** ({words}; more than "
+            f"{QUIET_LOAD_PER_CORE} per core): other work skewed these figures.")
+
+
+def warn_if_busy(quiet: dict):
+    if quiet["quiet"]:
+        return
+    bar = "!" * 78
+    print(f"{bar}\nbench: WARNING: this machine is busy. {quiet_words(quiet)}\n"
+          f"bench: the figures below are not fit for the book.\n{bar}",
+          file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------- medians and spreads
+
+def summarise(values: list[float]) -> dict:
+    """The median of repeated measurements, their range, and the range relative to the
+    median (0.1: the runs lay within 10% of the median's size of each other)."""
+    median = statistics.median(values)
+    low, high = min(values), max(values)
+    return {"median": median, "min": low, "max": high,
+            "spread": (high - low) / median if median else 0.0, "runs": list(values)}
+
+
+def spread_words(summary: dict, digits: int = 0) -> str:
+    """'72,100–80,300 (11%)'."""
+    return (f"{summary['min']:,.{digits}f}–{summary['max']:,.{digits}f} "
+            f"({100 * summary['spread']:.0f}%)")
+
+
+# ---------------------------------------------------------------- the book's pages
+
+def write_table(page: Path, start: str, end: str, table: str) -> bool:
+    """Replaces what lies between the page's start and end markers with the table.
+    False (and nothing written) when the page lacks the markers."""
+    text = page.read_text()
+    if start not in text or end not in text:
+        print(f"bench: {page} has no {start} ... {end}: table not written", file=sys.stderr)
+        return False
+    head, rest = text.split(start, 1)
+    _, tail = rest.split(end, 1)
+    page.write_text(f"{head}{start}\n{table}\n{end}{tail}")
+    return True
+
+
+def book_or_not(update_book: bool, page: Path, start: str, end: str, table: str):
+    """Writes the table into the page when asked (--update-book); says so either way."""
+    if not update_book:
+        print(f"bench: {page.name} left as it is (./course bench --update-book writes "
+              "this table there)")
+        return
+    if write_table(page, start, end, table):
+        print(f"bench: wrote the table into {page}")
