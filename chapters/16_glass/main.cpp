@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
         //    Every material is welcome now, glass too.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("cornell_glass"),
-                                  {COURSE_GENERATED_ASSET_DIR}, course::AcceptedMaterials::All);
+                                  {COURSE_GENERATED_ASSET_DIR},
+                                  course::AcceptedMaterials::All);
         GpuScene scene = packScene(sceneFile);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());
