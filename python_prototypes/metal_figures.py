@@ -93,8 +93,10 @@ def draw_vndf(figure):
                   label="visible normals drawn")
         axes.axvline(angle, color="#c0392b", linestyle="--", label="towards the viewer")
         axes.set_title(f"θi = {angle:g}°, α = {alpha:g}")
-        axes.set_xlabel("normal's angle in the plane of incidence (degrees)")
+        # Short labels: three panels share 11 inches.
+        axes.set_xlabel("normal's angle θm (degrees)")
         if index == 0:
+            axes.set_ylabel("density (per degree)")
             axes.legend(loc="upper left", fontsize=8)
 
 
