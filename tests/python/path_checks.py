@@ -1,6 +1,7 @@
 """What the path tracers' checks (chapters 11 and 12) share: rendering to linear PFM,
 the standard error of a mean over pixels, a closed-form form factor, and the region by
-region comparison with Mitsuba 3.
+region comparison with Mitsuba 3; and the close-up of one object (chapters 15 and 16),
+which measures its brightness against Mitsuba's closely enough to tell 2% from 0.
 
 Every expected value is compared with the statistical error of the estimate: the
 standard error of a mean of N independent pixels is the spread of the pixels over
@@ -81,3 +82,87 @@ def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
                                                  variant="scalar_rgb")
     return regions_agreeing(ours, np.asarray(theirs)[..., :3], scene_file, SIGMAS,
                             mesh_folders, most_relative)
+
+
+def close_up(scene_file: Path, name: str, folder: Path, size: int, mesh_folders=(),
+             margin: float = 1.08):
+    """scene_file seen from the same eye, zoomed onto one object (a sphere or a mesh,
+    by name) so that it fills the picture: the same rays hit it, many times as many
+    pixels. The picture is `size` pixels across its longer side, shaped like the object
+    (square for a sphere). Returns the new scene file, written into `folder` (mesh paths
+    made absolute, so that it loads from there), and the picture's width and height."""
+    import obj_io
+    import scene_io
+    scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
+    eye = np.asarray(scene.camera.eye, dtype=np.float64)
+    sphere = next((s for s in scene.spheres if s.name == name), None)
+    if sphere is not None:
+        offset = np.asarray(sphere.center) - eye
+        distance = np.linalg.norm(offset)
+        look = offset / distance
+        half_tangent = math.tan(margin * math.asin(sphere.radius / distance))
+        width = height = size
+    else:
+        mesh = next(m for m in scene.meshes if m.name == name)
+        positions = obj_io.read_obj(str(mesh.path))[0]
+        world = positions @ mesh.world_from_mesh()[:3, :3].T + mesh.world_from_mesh()[:3, 3]
+        look = None
+        for _ in range(3):  # aim at the middle of the object's extent in the picture
+            if look is None:
+                look = world.mean(axis=0) - eye
+                look /= np.linalg.norm(look)
+            right = np.cross(look, [0.0, 1.0, 0.0])
+            right /= np.linalg.norm(right)
+            up = np.cross(right, look)
+            relative = world - eye
+            depth = relative @ look
+            x, y = relative @ right / depth, relative @ up / depth
+            centre = (x.max() + x.min()) / 2 * right + (y.max() + y.min()) / 2 * up + look
+            look = centre / np.linalg.norm(centre)
+        across, tall = x.max() - x.min(), y.max() - y.min()
+        width, height = (size, max(16, round(size * tall / across))) if across > tall \
+            else (max(16, round(size * across / tall)), size)
+        half_tangent = margin * max(across, tall * width / height) / 2
+    sensor = 0.025
+    look_words = " ".join(f"{v:.6f}" for v in look)
+    camera = (f"camera eye {eye[0]} {eye[1]} {eye[2]} look {look_words} up 0 1 0 "
+              f"focal {sensor / 2 / half_tangent:.6f} sensor {sensor}")
+    lines = []
+    for line in scene_file.read_text().splitlines():
+        words = line.split()
+        if words[:1] == ["camera"]:
+            line = camera
+        elif words[:1] == ["mesh"]:
+            written = next(m for m in scene.meshes if m.written_path == words[1])
+            line = " ".join(["mesh", str(written.path), *words[2:]])
+        lines.append(line)
+    out = folder / f"close_up_{name}.scene"
+    out.write_text("\n".join(lines) + "\n")
+    return out, width, height
+
+
+def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, size: int,
+                        spp: int, mitsuba_spp: int, mesh_folders=(), extra=()):
+    """One object in a close-up (close_up), rendered by the chapter at `spp` and by
+    Mitsuba 3 at `mitsuba_spp`, `size` pixels across: (our brightness over the object / Mitsuba's
+    - 1, its standard error, the pixels, our image, Mitsuba's, the close-up's file).
+    RGB averaged; the error is the spread of ours - ratio x theirs, which a picture only
+    too dark or too bright (ours = ratio x theirs) does not widen."""
+    pytest.importorskip("mitsuba")
+    import mitsuba_reference
+    import scene_io
+    folders = [str(f) for f in mesh_folders]
+    close, width, height = close_up(scene_file, name, tmp_path, size, mesh_folders)
+    ours = path_trace(chapter, tmp_path, f"close_up_{name}", "--scene", close, "--width",
+                      width, "--height", height, "--spp", spp, *extra)
+    scene = scene_io.load_scene(str(close), folders)
+    theirs, _ = mitsuba_reference.render_mitsuba(scene, width, height, mitsuba_spp, 6,
+                                                 seed=0)
+    theirs = np.asarray(theirs, dtype=np.float64)[..., :3]
+    mask = mitsuba_reference.region_masks(scene, width, height)[name]
+    a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
+    relative = a.mean() / b.mean() - 1
+    error = np.std(a - (relative + 1) * b, ddof=1) / math.sqrt(len(a)) / b.mean()
+    print(f"{name}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels, "
+          f"{spp} spp against {mitsuba_spp})")
+    return relative, error, int(mask.sum()), ours, theirs, close

@@ -278,48 +278,15 @@ def test_cornell_metals_agrees_with_mitsuba(tmp_path, mitsuba_metals):
     assert len(compared) >= 8
 
 
-def close_up(sphere_name: str, folder: Path) -> Path:
-    """cornell_metals.scene seen from the same eye, zoomed onto one sphere so that it
-    fills the picture: the same rays hit it, nine to sixteen times as many pixels."""
-    import scene_io
-    text = (SCENES / "cornell_metals.scene").read_text()
-    scene = scene_io.load_scene(str(SCENES / "cornell_metals.scene"), [])
-    sphere = next(s for s in scene.spheres if s.name == sphere_name)
-    eye = np.asarray(scene.camera.eye)
-    offset = np.asarray(sphere.center) - eye
-    distance = np.linalg.norm(offset)
-    half_angle = 1.08 * math.asin(sphere.radius / distance)  # a thin margin of room
-    sensor = 0.025
-    look = " ".join(f"{v:.6f}" for v in offset / distance)
-    camera = (f"camera eye {eye[0]} {eye[1]} {eye[2]} look {look} up 0 1 0 "
-              f"focal {sensor / 2 / math.tan(half_angle):.6f} sensor {sensor}")
-    lines = [camera if line.startswith("camera ") else line for line in text.splitlines()]
-    scene_file = folder / f"close_up_{sphere_name}.scene"
-    scene_file.write_text("\n".join(lines) + "\n")
-    return scene_file
-
-
 @pytest.mark.parametrize("sphere", ["mirror_sphere", "copper_sphere", "gold_sphere"])
 def test_each_metal_within_two_percent_of_mitsuba(tmp_path, sphere):
     # Issue #16: each metal's brightness within 2% of Mitsuba 3's, measured closely
-    # enough to say so: the whole sphere (1,500-2,400 pixels) at 256 spp against
-    # Mitsuba's 1024, a standard error of 0.25-0.75% (the lamp in the copper and the
-    # mirror is most of their noise).
-    pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
-    scene_file = close_up(sphere, tmp_path)
-    ours = path_trace(tmp_path, "ours", "--scene", scene_file, "--width", 64,
-                      "--height", 64, "--spp", 256)
-    scene = scene_io.load_scene(str(scene_file), [])
-    theirs, _ = mitsuba_reference.render_mitsuba(scene, 64, 64, 1024, 6, seed=0)
-    theirs = np.asarray(theirs, dtype=np.float64)[..., :3]
-    mask = mitsuba_reference.region_masks(scene, 64, 64)[sphere]
-    a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
-    relative = a.mean() / b.mean() - 1
-    error = np.std(a - (relative + 1) * b, ddof=1) / math.sqrt(len(a)) / b.mean()
-    print(f"{sphere}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels)")
-    assert mask.sum() > 1200
+    # enough to say so: the sphere in a close-up from the same eye (path_checks.close_up,
+    # 1,500-2,400 pixels) at 256 spp against Mitsuba's 1024, a standard error of
+    # 0.25-0.75% (the lamp in the copper and the mirror is most of their noise).
+    relative, error, pixels, ours, theirs, scene_file = path_checks.close_up_difference(
+        "15", tmp_path, SCENES / "cornell_metals.scene", sphere, 64, 256, 1024)
+    assert pixels > 1200
     assert error < 0.01  # the measurement can tell 2% from 0
     assert abs(relative) < 0.02, (sphere, relative, error)
     regions_agreeing(ours, theirs, scene_file, SIGMAS)  # and colour by colour

@@ -8,7 +8,8 @@
 - White furnaces: a smooth glass sphere in a glowing box vanishes (index 1.5 and 2.42).
 - A lamp inside a glass ball looks dimmer by (1 - F) / eta^2: the radiance scale.
 - Mitsuba 3, region by region: smooth and rough glass spheres, a glass box of quads and
-  a prism of triangles, and the glass gems, all in the Cornell room.
+  a prism of triangles, and the glass gems, all in the Cornell room; then each sphere
+  and gem in a close-up, within 2% with a standard error of 0.3-1.0%.
 - Planted bugs, each in a copy of the shaders, each failing the check that catches it.
 - Bad glass (a negative roughness, an index <= 0): exit code 3 at its line.
 
@@ -360,6 +361,41 @@ def test_glass_gems_agree_with_mitsuba(tmp_path, mitsuba_gems):
                       "--width", 64, "--height", 64, "--spp", 512)
     compared = assert_within_two_percent(ours, mitsuba_gems)
     assert {"ruby", "diamond", "emerald", "sapphire"} <= set(compared)
+
+
+# Issue #16: each glass object's brightness within 2% of Mitsuba 3's, measured closely
+# enough to say so. The full views above cannot: at 64 x 64 a gem is a few hundred
+# pixels and its standard error 2-4.5%. So each object is seen in a close-up from the
+# same eye (path_checks.close_up: the same rays meet it, the picture shaped like it),
+# the region the whole object. Our noise is most of the error (Russian roulette after a
+# refraction into a gem: exercise 3), so we take more samples than Mitsuba's share.
+# (object, its scene, our spp, Mitsuba's spp, fewest pixels, the largest standard error)
+CLOSE_UPS = {
+    "glass_sphere": ("cornell_glass.scene", 512, 1024, 2000, 0.006),
+    "rough_glass_sphere": ("cornell_glass.scene", 256, 1024, 2000, 0.005),
+    "ruby": ("cornell_gem_glass.scene", 1536, 2048, 650, 0.0125),
+    "diamond": ("cornell_gem_glass.scene", 1536, 2048, 650, 0.0125),
+    "emerald": ("cornell_gem_glass.scene", 1536, 2048, 650, 0.0125),
+    "sapphire": ("cornell_gem_glass.scene", 1536, 2048, 650, 0.0125),
+}
+
+
+def close_up_within_two_percent(tmp_path, name, shader_dir=None):
+    """The close-up's comparison; returns the relative difference and its error."""
+    scene, spp, mitsuba_spp, fewest, largest_error = CLOSE_UPS[name]
+    extra = ["--shader-dir", shader_dir] if shader_dir else []
+    relative, error, pixels, ours, theirs, scene_file = path_checks.close_up_difference(
+        "16", tmp_path, SCENES / scene, name, 64, spp, mitsuba_spp, MESH_FOLDERS, extra)
+    assert pixels > fewest
+    assert error < largest_error  # the measurement can tell 2% from 0
+    assert abs(relative) < 0.02, (name, relative, error)
+    regions_agreeing(ours, theirs, scene_file, SIGMAS, MESH_FOLDERS)  # colour by colour
+    return relative, error
+
+
+@pytest.mark.parametrize("name", CLOSE_UPS)
+def test_each_glass_object_within_two_percent_of_mitsuba(tmp_path, name):
+    close_up_within_two_percent(tmp_path, name)
 
 
 # --- Planted bugs ---------------------------------------------------------------------------
