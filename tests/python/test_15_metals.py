@@ -149,6 +149,33 @@ def test_gpu_microfacets_match_the_numpy_prototype(tmp_path, probe_queries):
     assert_matches_numpy(answers, *probe_queries)
 
 
+def reciprocity_error(forward, backward, wi, given):
+    """The largest relative difference between f(wi, given) and f(given, wi), from evals
+    that carry the cosine of their second direction; both directions above the surface."""
+    up = (wi[:, 2] > 0.05) & (given[:, 2] > 0.05)
+    f_forward = forward[up] / given[up, 2:3]
+    f_backward = backward[up] / wi[up, 2:3]
+    scale = np.maximum(np.abs(f_forward), 1e-6)
+    return float(np.max(np.abs(f_forward - f_backward) / scale))
+
+
+def test_rough_conductor_is_reciprocal(tmp_path, probe_queries):
+    """f(wi, wo) = f(wo, wi): light runs both ways (Helmholtz). The GPU's eval with the
+    two directions swapped; and, to show the check can fail, the prototype with the
+    masking of one direction squared instead of multiplied by the other's."""
+    wi, alpha, eta, k, u, given = probe_queries
+    folder = shaders_with(tmp_path)
+    forward = run_probe(folder, make_queries(wi, alpha, eta, k, u, given), tmp_path)[:, 8:11]
+    backward = run_probe(folder, make_queries(given, alpha, eta, k, u, wi), tmp_path)[:, 8:11]
+    assert reciprocity_error(forward, backward, wi, given) < 5e-3
+
+    def one_sided(a, b, m, alpha):  # G1(a)^2: not symmetric in a and b
+        return mf.ggx_g1(a, m, alpha) ** 2
+    wrong_forward = mf.rough_conductor_eval(wi, given, alpha, GOLD[0], GOLD[1], g2=one_sided)
+    wrong_backward = mf.rough_conductor_eval(given, wi, alpha, GOLD[0], GOLD[1], g2=one_sided)
+    assert reciprocity_error(wrong_forward, wrong_backward, wi, given) > 0.05
+
+
 def test_sample_weight_is_eval_over_pdf(tmp_path, probe_queries):
     # Ask eval and pdf about the very direction the sampler chose.
     wi, alpha, eta, k, u, _ = probe_queries
