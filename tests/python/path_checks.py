@@ -1,7 +1,9 @@
 """What the path tracers' checks (chapters 11 and 12) share: rendering to linear PFM,
 the standard error of a mean over pixels, a closed-form form factor, and the region by
-region comparison with Mitsuba 3; and the close-up of one object (chapters 15 and 16),
-which measures its brightness against Mitsuba's closely enough to tell 2% from 0.
+region comparison with Mitsuba 3; and for the materials (chapters 15 and 16): the
+close-up of one object, which measures its brightness against Mitsuba's closely enough
+to tell 2% from 0, a named region's pixels, shaders with one planted bug, and the GPU
+probe of a chapter's BSDF functions (tests/cpp/bsdf_probe.cpp).
 
 Every expected value is compared with the statistical error of the estimate: the
 standard error of a mean of N independent pixels is the spread of the pixels over
@@ -11,6 +13,8 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 from __future__ import annotations
 
 import math
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +24,7 @@ from conftest import ROOT, read_pfm, regions_agreeing, run_chapter
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
+BSDF_PROBE = ROOT / "build" / "tests" / "bsdf_probe"
 
 
 def path_trace(chapter: str, tmp_path, name: str, *args) -> np.ndarray:
@@ -160,9 +165,55 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
                                                  seed=0)
     theirs = np.asarray(theirs, dtype=np.float64)[..., :3]
     mask = mitsuba_reference.region_masks(scene, width, height)[name]
-    a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
-    relative = a.mean() / b.mean() - 1
-    error = np.std(a - (relative + 1) * b, ddof=1) / math.sqrt(len(a)) / b.mean()
+    relative, error = brightness_difference(ours[mask], theirs[mask])
     print(f"{name}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels, "
           f"{spp} spp against {mitsuba_spp})")
     return relative, error, int(mask.sum()), ours, theirs, close
+
+
+def brightness_difference(ours: np.ndarray, theirs: np.ndarray):
+    """Two renders' pixels of one region (N x 3): (our brightness over theirs - 1, its
+    standard error), RGB averaged. The error is the spread of ours - ratio x theirs,
+    which a picture only too dark or too bright (ours = ratio x theirs) does not widen."""
+    a, b = ours.mean(axis=-1), theirs.mean(axis=-1)
+    ratio = a.mean() / b.mean()
+    error = np.std(a - ratio * b, ddof=1) / math.sqrt(len(a)) / b.mean()
+    return ratio - 1, error
+
+
+def named_region(image: np.ndarray, scene_file: Path, name: str):
+    """(the pixels that see only the shape called `name`, the scene), at the image's size."""
+    import mitsuba_reference
+    import scene_io
+    scene = scene_io.load_scene(str(scene_file), [])
+    return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
+
+
+def shaders_with_bug(source: Path, destination: Path, bug=None, extra=()) -> Path:
+    """A copy of a chapter's shader folder (with the `extra` files beside them), where
+    bug = (file, the right text, the wrong one) plants one mistake; the right text must
+    stand exactly once, so a planted bug cannot silently miss."""
+    shutil.copytree(source, destination)
+    for path in extra:
+        shutil.copy(path, destination / Path(path).name)
+    if bug is not None:
+        name, right, wrong = bug
+        text = (destination / name).read_text()
+        assert text.count(right) == 1, f"the planted bug's line is gone from {name}"
+        (destination / name).write_text(text.replace(right, wrong))
+    return destination
+
+
+def run_bsdf_probe(probe_shader: str, shader_dir: Path, queries: np.ndarray,
+                   tmp_path: Path) -> np.ndarray:
+    """Runs a probe shader (in shader_dir, beside the chapter's BSDF code) on (N, 20)
+    float32 queries through tests/cpp/bsdf_probe.cpp; returns the (N, 24) answers."""
+    assert BSDF_PROBE.exists(), \
+        f"{BSDF_PROBE} is not built (cmake --build build --target bsdf_probe)"
+    queries_file, answers_file = tmp_path / "queries.f32", tmp_path / "answers.f32"
+    np.ascontiguousarray(queries, dtype=np.float32).tofile(queries_file)
+    result = subprocess.run([BSDF_PROBE, shader_dir, shader_dir / probe_shader,
+                             queries_file, answers_file], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
+    return np.fromfile(answers_file, dtype=np.float32).reshape(-1, 24).astype(np.float64)

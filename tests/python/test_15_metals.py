@@ -15,8 +15,6 @@ The limits and why: tests/python/path_checks.py."""
 from __future__ import annotations
 
 import math
-import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +29,6 @@ import microfacet as mf
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 SHADERS = ROOT / "shaders" / "15_metals"
-PROBE = ROOT / "build" / "tests" / "bsdf_probe"
 PROBE_SHADER = ROOT / "tests" / "data" / "bsdf" / "bsdf_probe.comp"
 SCENES = ROOT / "assets" / "scenes"
 TEST_SCENES = ROOT / "tests" / "data" / "scenes"
@@ -54,15 +51,7 @@ DELTA_GIVEN_TO_NEE = ("path.comp", "afterDelta = isDelta(material);", "afterDelt
 
 def shaders_with(tmp_path, bug=None) -> Path:
     """A copy of the chapter's shaders (and the probe's), with one planted bug."""
-    folder = tmp_path / "shaders"
-    shutil.copytree(SHADERS, folder)
-    shutil.copy(PROBE_SHADER, folder / PROBE_SHADER.name)
-    if bug is not None:
-        name, right, wrong = bug
-        text = (folder / name).read_text()
-        assert text.count(right) == 1, f"the planted bug's line is gone from {name}"
-        (folder / name).write_text(text.replace(right, wrong))
-    return folder
+    return path_checks.shaders_with_bug(SHADERS, tmp_path / "shaders", bug, [PROBE_SHADER])
 
 
 def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:
@@ -74,14 +63,7 @@ def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:
 
 def run_probe(shader_dir: Path, queries: np.ndarray, tmp_path: Path) -> np.ndarray:
     """Runs bsdf_probe.comp on (N, 20) float32 queries; returns the (N, 24) answers."""
-    assert PROBE.exists(), f"{PROBE} is not built (cmake --build build --target bsdf_probe)"
-    queries_file, answers_file = tmp_path / "queries.f32", tmp_path / "answers.f32"
-    np.ascontiguousarray(queries, dtype=np.float32).tofile(queries_file)
-    result = subprocess.run([PROBE, shader_dir, shader_dir / PROBE_SHADER.name,
-                             queries_file, answers_file], capture_output=True, text=True,
-                            timeout=300)
-    assert result.returncode == 0, result.stderr
-    return np.fromfile(answers_file, dtype=np.float32).reshape(-1, 24).astype(np.float64)
+    return path_checks.run_bsdf_probe(PROBE_SHADER.name, shader_dir, queries, tmp_path)
 
 
 def make_queries(wi, alpha, eta, k, u, given) -> np.ndarray:
@@ -225,21 +207,13 @@ def test_gpu_samples_have_the_gpu_pdf(tmp_path, angle, alpha):
 
 # --- White furnaces ---------------------------------------------------------------------
 
-def sphere_region(image, scene_file):
-    import mitsuba_reference
-    import scene_io
-    scene = scene_io.load_scene(str(scene_file), [])
-    masks = mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])
-    return masks["sphere"], scene
-
-
 @pytest.mark.parametrize("estimator", ["nee", "mis"])
 def test_mirror_sphere_vanishes_in_the_furnace(tmp_path, estimator):
     # A perfect mirror in a box glowing with 1 reflects the box: as bright as the box.
     # (Without the special case at a delta vertex, MIS would weigh its light to 0.)
     image = path_trace(tmp_path, "mirror", "--scene", TEST_SCENES / "furnace_mirror.scene",
                        "--width", 48, "--height", 48, "--spp", 8, "--estimator", estimator)
-    mask, _ = sphere_region(image, TEST_SCENES / "furnace_mirror.scene")
+    mask, _ = path_checks.named_region(image, TEST_SCENES / "furnace_mirror.scene", "sphere")
     assert mask.sum() > 100
     np.testing.assert_allclose(image[mask], 1.0, atol=1e-4)
 
@@ -261,7 +235,7 @@ def test_rough_metal_in_the_furnace_keeps_the_predicted_albedo(tmp_path, alpha):
     scene_file.write_text(text)
     image = path_trace(tmp_path, "rough", "--scene", scene_file, "--width", 48,
                        "--height", 48, "--spp", 64)
-    mask, scene = sphere_region(image, scene_file)
+    mask, scene = path_checks.named_region(image, scene_file, "sphere")
     import mitsuba_reference
     eye = np.asarray(scene.camera.eye)
     directions = mitsuba_reference.ray_directions(scene.camera, 48, 48)[mask]
@@ -375,7 +349,7 @@ def test_delta_bsdf_given_to_nee_fails_the_mirror_furnace(tmp_path):
     image = path_trace(tmp_path, "bug", "--scene", TEST_SCENES / "furnace_mirror.scene",
                        "--width", 48, "--height", 48, "--spp", 8,
                        shader_dir=shaders_with(tmp_path, DELTA_GIVEN_TO_NEE))
-    mask, _ = sphere_region(image, TEST_SCENES / "furnace_mirror.scene")
+    mask, _ = path_checks.named_region(image, TEST_SCENES / "furnace_mirror.scene", "sphere")
     assert not np.allclose(image[mask], 1.0, atol=1e-4)
     assert image[mask].mean() < 0.5  # the mirror shows black
 

@@ -18,8 +18,6 @@ The limits and why: tests/python/path_checks.py."""
 from __future__ import annotations
 
 import math
-import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +32,6 @@ import microfacet as mf
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 SHADERS = ROOT / "shaders" / "16_glass"
-PROBE = ROOT / "build" / "tests" / "bsdf_probe"
 PROBE_SHADER = ROOT / "tests" / "data" / "bsdf" / "dielectric_probe.comp"
 SCENES = ROOT / "assets" / "scenes"
 TEST_SCENES = ROOT / "tests" / "data" / "scenes"
@@ -59,15 +56,7 @@ BUGS = {"fresnel_indices_swapped": FRESNEL_INDICES_SWAPPED,
 
 def shaders_with(tmp_path, bug=None) -> Path:
     """A copy of the chapter's shaders (and the probe's), with one planted bug."""
-    folder = tmp_path / "shaders"
-    shutil.copytree(SHADERS, folder)
-    shutil.copy(PROBE_SHADER, folder / PROBE_SHADER.name)
-    if bug is not None:
-        name, right, wrong = bug
-        text = (folder / name).read_text()
-        assert text.count(right) == 1, f"the planted bug's line is gone from {name}"
-        (folder / name).write_text(text.replace(right, wrong))
-    return folder
+    return path_checks.shaders_with_bug(SHADERS, tmp_path / "shaders", bug, [PROBE_SHADER])
 
 
 def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:
@@ -78,15 +67,8 @@ def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:
 # --- The GPU's dielectric against numpy -------------------------------------------------
 
 def run_probe(shader_dir: Path, queries: np.ndarray, tmp_path: Path) -> np.ndarray:
-    """Runs dielectric_probe.comp on (N, 20) float32 queries; returns (N, 24) answers."""
-    assert PROBE.exists(), f"{PROBE} is not built (cmake --build build --target bsdf_probe)"
-    queries_file, answers_file = tmp_path / "queries.f32", tmp_path / "answers.f32"
-    np.ascontiguousarray(queries, dtype=np.float32).tofile(queries_file)
-    result = subprocess.run([PROBE, shader_dir, shader_dir / PROBE_SHADER.name,
-                             queries_file, answers_file], capture_output=True, text=True,
-                            timeout=300)
-    assert result.returncode == 0, result.stderr
-    return np.fromfile(answers_file, dtype=np.float32).reshape(-1, 24).astype(np.float64)
+    """Runs dielectric_probe.comp on (N, 20) float32 queries; returns the (N, 24) answers."""
+    return path_checks.run_bsdf_probe(PROBE_SHADER.name, shader_dir, queries, tmp_path)
 
 
 def make_queries(wi, alpha, eta, u, given) -> np.ndarray:
@@ -224,13 +206,6 @@ def test_gpu_samples_have_the_gpu_pdf(tmp_path, alpha, angle, eta):
 
 # --- Furnace and the radiance scale -----------------------------------------------------
 
-def sphere_region(image, scene_file, name="sphere"):
-    import mitsuba_reference
-    import scene_io
-    scene = scene_io.load_scene(str(scene_file), [])
-    return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
-
-
 @pytest.mark.parametrize("ior", [1.5, 2.42])
 def test_glass_sphere_vanishes_in_the_furnace(tmp_path, ior):
     # Smooth glass in a box glowing with 1: every path leaves the glass again and ends
@@ -241,7 +216,7 @@ def test_glass_sphere_vanishes_in_the_furnace(tmp_path, ior):
     scene_file.write_text(text)
     image = path_trace(tmp_path, "glass", "--scene", scene_file, "--width", 64,
                        "--height", 64, "--spp", 64, "--depth", 40)
-    mask, _ = sphere_region(image, scene_file)
+    mask, _ = path_checks.named_region(image, scene_file, "sphere")
     assert mask.sum() > 300
     mean, error = mean_and_error(image[mask])  # the background is the box's 1 itself
     print(f"ior {ior}: sphere {mean} ± {error}, the box 1")
@@ -316,19 +291,8 @@ def mitsuba_gems():
 
 def relative_differences(ours, theirs, masks) -> dict:
     """{region: (our brightness / Mitsuba's - 1, its standard error)}, RGB averaged."""
-    result = {}
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        a, b = ours[mask].mean(axis=-1), theirs[mask].mean(axis=-1)
-        ratio = a.mean() / b.mean()
-        # The noise of the ratio: the spread of a - ratio b, which a picture that is
-        # only too dark or too bright (a = ratio b) does not widen.
-        error = np.std(a - ratio * b, ddof=1) / math.sqrt(len(a)) / b.mean()
-        result[region] = (ratio - 1, error)
-    return result
-
-
+    return {region: path_checks.brightness_difference(ours[mask], theirs[mask])
+            for region, mask in masks.items() if mask.sum() >= 20}
 def assert_within_two_percent(ours, reference):
     """Every region within SIGMAS standard errors (the z-test of the other chapters),
     and within 2% of Mitsuba's brightness or SIGMAS of its standard errors where the
