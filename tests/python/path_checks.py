@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, read_pfm, regions_agreeing, run_chapter
+from conftest import ROOT, copy_shaders, read_pfm, regions_agreeing, run_chapter
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
@@ -189,19 +189,19 @@ def named_region(image: np.ndarray, scene_file: Path, name: str):
     return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
 
 
-def shaders_with_bug(source: Path, destination: Path, bug=None, extra=()) -> Path:
-    """A copy of a chapter's shader folder (with the `extra` files beside them), where
-    bug = (file, the right text, the wrong one) plants one mistake; the right text must
-    stand exactly once, so a planted bug cannot silently miss."""
-    shutil.copytree(source, destination)
+def shaders_with_bug(chapter: str, destination: Path, bug=None, extra=()) -> Path:
+    """A copy of a chapter's shader folder (conftest.copy_shaders, with the `extra` files
+    beside them), where bug = (file, the right text, the wrong one) plants one mistake;
+    the right text must stand exactly once, so a planted bug cannot silently miss."""
+    folder = copy_shaders(chapter, destination)
     for path in extra:
-        shutil.copy(path, destination / Path(path).name)
+        shutil.copy(path, folder / Path(path).name)
     if bug is not None:
         name, right, wrong = bug
-        text = (destination / name).read_text()
+        text = (folder / name).read_text()
         assert text.count(right) == 1, f"the planted bug's line is gone from {name}"
-        (destination / name).write_text(text.replace(right, wrong))
-    return destination
+        (folder / name).write_text(text.replace(right, wrong))
+    return folder
 
 
 def run_bsdf_probe(probe_shader: str, shader_dir: Path, queries: np.ndarray,

@@ -7,6 +7,7 @@ sphere on a floor. Each check is shown to reject a planted mistake."""
 import numpy as np
 import pytest
 
+import path_checks
 import scene_cast
 import scene_io
 from conftest import ROOT, copy_shaders, read_pfm, render, run_chapter
@@ -92,12 +93,9 @@ def test_the_back_of_a_surface_is_black_and_its_front_is_not(tmp_path, shapes_sc
 
 def test_a_quad_test_that_never_hits_is_caught(tmp_path, shapes_scene):
     """The starter's stub (no quad is ever hit: no floor, no walls, no lamp)."""
-    shaders = copy_shaders("10", tmp_path / "shaders")
-    scene_glsl = shaders / "scene.glsl"
-    text = scene_glsl.read_text()
     inside = "return a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0;"
-    assert inside in text
-    scene_glsl.write_text(text.replace(inside, "return false;"))
+    shaders = path_checks.shaders_with_bug("10", tmp_path,
+                                           ("scene.glsl", inside, "return false;"))
     image = preview(tmp_path, shapes_scene, "no_quads", "--shader-dir", shaders)
     assert mismatched_pixels(image, shapes_scene) > 500
 

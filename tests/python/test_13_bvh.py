@@ -16,7 +16,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, copy_shaders, read_pfm, run_chapter
+from conftest import ROOT, read_pfm, run_chapter
 
 sys.path.insert(0, str(ROOT / "python_prototypes"))
 import camera_rays  # noqa: E402
@@ -111,12 +111,9 @@ PLANTED_BUGS = {
 
 @pytest.mark.parametrize("bug", PLANTED_BUGS)
 def test_the_comparison_catches_a_planted_traversal_bug(tmp_path, bug):
-    shaders = copy_shaders("13", tmp_path / "shaders")
-    traversal = shaders / "bvh_traversal.glsl"
     original, planted = PLANTED_BUGS[bug]
-    text = traversal.read_text()
-    assert original in text, bug
-    traversal.write_text(text.replace(original, planted))
+    shaders = path_checks.shaders_with_bug("13", tmp_path,
+                                           ("bvh_traversal.glsl", original, planted))
     scene = room_with(tmp_path, TEAPOT_6320)
     size = 48
     buggy = render(tmp_path, "13", "buggy", "--scene", scene, "--width", size, "--height",

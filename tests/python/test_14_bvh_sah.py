@@ -13,9 +13,10 @@ import json
 import sys
 
 import numpy as np
+import path_checks
 import pytest
 
-from conftest import ROOT, copy_shaders, loop_limit, run_chapter
+from conftest import ROOT, loop_limit, run_chapter
 from test_13_bvh import SCENES, TEAPOT_552, TEAPOT_6320, render, room_with
 
 sys.path.insert(0, str(ROOT / "tools"))
@@ -55,12 +56,9 @@ PLANTED_BUGS = {
 
 @pytest.mark.parametrize("bug", PLANTED_BUGS)
 def test_the_comparison_catches_a_planted_traversal_bug(tmp_path, bug):
-    shaders = copy_shaders("14", tmp_path / "shaders")
-    traversal = shaders / "bvh_traversal.glsl"
     original, planted = PLANTED_BUGS[bug]
-    text = traversal.read_text()
-    assert original in text, bug
-    traversal.write_text(text.replace(original, planted))
+    shaders = path_checks.shaders_with_bug("14", tmp_path,
+                                           ("bvh_traversal.glsl", original, planted))
     scene = room_with(tmp_path, TEAPOT_6320)
     common = ["--scene", scene, "--width", 64, "--height", 64, "--spp", 1, "--view",
               "distance"]

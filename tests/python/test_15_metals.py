@@ -28,7 +28,6 @@ import microfacet as mf
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
-SHADERS = ROOT / "shaders" / "15_metals"
 PROBE_SHADER = ROOT / "tests" / "data" / "bsdf" / "bsdf_probe.comp"
 SCENES = ROOT / "assets" / "scenes"
 TEST_SCENES = ROOT / "tests" / "data" / "scenes"
@@ -51,7 +50,7 @@ DELTA_GIVEN_TO_NEE = ("path.comp", "afterDelta = isDelta(material);", "afterDelt
 
 def shaders_with(tmp_path, bug=None) -> Path:
     """A copy of the chapter's shaders (and the probe's), with one planted bug."""
-    return path_checks.shaders_with_bug(SHADERS, tmp_path / "shaders", bug, [PROBE_SHADER])
+    return path_checks.shaders_with_bug("15", tmp_path, bug, [PROBE_SHADER])
 
 
 def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:

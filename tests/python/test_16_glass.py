@@ -31,7 +31,6 @@ import microfacet as mf
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
-SHADERS = ROOT / "shaders" / "16_glass"
 PROBE_SHADER = ROOT / "tests" / "data" / "bsdf" / "dielectric_probe.comp"
 SCENES = ROOT / "assets" / "scenes"
 TEST_SCENES = ROOT / "tests" / "data" / "scenes"
@@ -56,7 +55,7 @@ BUGS = {"fresnel_indices_swapped": FRESNEL_INDICES_SWAPPED,
 
 def shaders_with(tmp_path, bug=None) -> Path:
     """A copy of the chapter's shaders (and the probe's), with one planted bug."""
-    return path_checks.shaders_with_bug(SHADERS, tmp_path / "shaders", bug, [PROBE_SHADER])
+    return path_checks.shaders_with_bug("16", tmp_path, bug, [PROBE_SHADER])
 
 
 def path_trace(tmp_path, name, *args, shader_dir=None) -> np.ndarray:
