@@ -170,12 +170,18 @@ def chapter_code(root: Path, chapter: str) -> tuple[str, str]:
     return "\n".join(solution), "\n".join(starter)
 
 
+# What a test calls to plant a mistake: str.replace, and tests/python/path_checks.py's
+# helper that copies a shader folder with one line replaced.
+PLANTING_CALLS = {"replace", "shaders_with_bug"}
+
+
 def without_planted_mistakes(test: str, solution: str, starter: str) -> str:
     """A chapter's test file for its starter. The checks that prove they can fail plant
-    a mistake in a copy of the solution (`replace("t = tClosest - halfChord;", ...)`):
-    they can only run on the solution, and their strings are pieces of it. A test
-    function that calls .replace() and uses a string found in the solution but not in
-    the starter is left out, with the module-level constants only such tests use."""
+    a mistake in a copy of the solution (`replace("t = tClosest - halfChord;", ...)`, or
+    path_checks.shaders_with_bug): they can only run on the solution, and their strings
+    are pieces of it. A test function that makes one of the PLANTING_CALLS with a string
+    found in the solution but not in the starter is left out, with the module-level
+    constants only such tests use."""
     import ast
     tree = ast.parse(test)
 
@@ -191,9 +197,11 @@ def without_planted_mistakes(test: str, solution: str, starter: str) -> str:
         if isinstance(node, ast.Assign) and len(node.targets) == 1 \
                 and isinstance(node.targets[0], ast.Name):
             constants[node.targets[0].id] = node
-    def plants(node) -> bool:  # calls something.replace(...)
-        return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
-                   and n.func.attr == "replace" for n in ast.walk(node))
+    def plants(node) -> bool:  # calls something.replace(...) or shaders_with_bug(...)
+        def name(call):
+            return getattr(call.func, "attr", getattr(call.func, "id", None))
+        return any(isinstance(n, ast.Call) and name(n) in PLANTING_CALLS
+                   for n in ast.walk(node))
 
     cut = []
     for node in tree.body:

@@ -39,6 +39,19 @@ def test_strip_keeps_hint_and_stub():
         "void f() {\n    // TODO: add them\n    x = 0;\n}\n")
 
 
+def test_a_check_that_plants_a_solution_line_is_left_out_of_the_starter():
+    """Both ways of planting a mistake: str.replace and path_checks.shaders_with_bug."""
+    solution, starter = "hit = a >= 0.0;\nreturn hit;", "return false;"
+    test = ('import path_checks\nRIGHT = "hit = a >= 0.0;"\n\n'
+            'def test_replaced():\n    text = "".replace(RIGHT, "hit = true;")\n\n'
+            'def test_planted():\n'
+            '    path_checks.shaders_with_bug("10", None, ("s.glsl", RIGHT, "x"))\n\n'
+            'def test_kept():\n    assert "return false;"\n')
+    kept = classroom.without_planted_mistakes(test, solution, starter)
+    assert "def test_kept" in kept and "a >= 0.0" not in kept
+    assert "test_replaced" not in kept and "test_planted" not in kept
+
+
 def released_chapters():
     chapters = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.is_dir())
     return [c for c in chapters if classroom.has_exercises(ROOT, c)]
