@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "course/error.h"
+#include "course/image_read.h"
 #include "course/text_file.h"
 
 namespace course {
@@ -24,7 +25,7 @@ namespace fs = std::filesystem;
 // A scene file is a few kilobytes: meshes live in OBJ files. This only stops a wrong
 // file (a video, a disk image) from being read into memory whole.
 constexpr std::uintmax_t kMostBytes = std::uintmax_t(16) << 20;
-// No statement has more fields than a camera or a mesh with every option (17 words).
+// No statement has more fields than a camera with a lens (21 words).
 constexpr size_t kMostWords = 24;
 constexpr const char* kNameRule =
     "use letters, digits, '_' and '-', starting with a letter or '_'";
@@ -67,9 +68,9 @@ struct MaterialUse {
 class SceneParser {
 public:
     SceneParser(std::string shownPath, std::vector<std::string> meshFolders,
-                AcceptedMaterials accepted)
+                AcceptedMaterials accepted, LensAndTextures lensAndTextures)
         : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)),
-          accepted_(accepted) {
+          accepted_(accepted), lensAndTextures_(lensAndTextures) {
         scene_.path = path_;
     }
 
@@ -88,6 +89,8 @@ public:
         words.erase(words.begin());
         if (keyword == "camera")
             readCamera(words);
+        else if (keyword == "texture")
+            readTexture(words);
         else if (keyword == "material")
             readMaterial(words);
         else if (keyword == "sphere")
@@ -100,7 +103,7 @@ public:
             readMesh(words);
         else
             fail("unknown keyword " + inQuotes(keyword) +
-                 " (expected camera, material, sphere, quad, triangle or mesh)");
+                 " (expected camera, texture, material, sphere, quad, triangle or mesh)");
     }
 
     SceneFile finish() {
@@ -109,6 +112,20 @@ public:
             if (found == materialIndex_.end())
                 failAt(use.line, "material " + inQuotes(use.name) + " is not defined");
             materialOf(use) = found->second;
+            const bool hasUv = use.kind == ShapeKind::Quad || use.kind == ShapeKind::Mesh;
+            if (scene_.materials[found->second].texture >= 0 && !hasUv)
+                failAt(use.line, "material " + inQuotes(use.name) +
+                                     " is textured, and this shape has no texture "
+                                     "coordinates: textures apply to quads and meshes");
+        }
+        if (lensAndTextures_ == LensAndTextures::Refused) {
+            const char* later = ": this program has a pinhole camera and no textures; "
+                                "the thin lens and textures come in chapter 17";
+            if (!scene_.textures.empty())
+                failAt(scene_.textures.front().line,
+                       "texture " + inQuotes(scene_.textures.front().name) + later);
+            if (scene_.camera.lensRadius > 0.0f)
+                failAt(cameraLine_, std::string("the camera has a lens") + later);
         }
         if (accepted_ == AcceptedMaterials::DiffuseOnly)
             for (const SceneMaterial& material : scene_.materials)
@@ -161,9 +178,12 @@ private:
                  inQuotes(words[index]));
     }
 
-    // camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+    // camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
     void readCamera(const Words& words) {
-        expectFieldCount("camera", words, 16, "eye X Y Z look X Y Z up X Y Z focal F sensor S");
+        if (words.size() != 20)
+            expectFieldCount("camera", words, 16,
+                             "eye X Y Z look X Y Z up X Y Z focal F sensor S, then "
+                             "optionally lens RADIUS focus DISTANCE");
         if (cameraLine_ != 0)
             fail("a second camera (the first is on line " + std::to_string(cameraLine_) + ")");
         const char* labels[] = {"eye", "look", "up"};
@@ -187,6 +207,16 @@ private:
             fail("the camera's up must not be parallel to its look direction");
         if (!(camera.focalLength > 0.0f) || !(camera.sensorWidth > 0.0f))
             fail("the camera's focal length and sensor width must be positive");
+        if (words.size() == 20) {
+            expectLabel(words, 16, "lens", "camera");
+            expectLabel(words, 18, "focus", "camera");
+            camera.lensRadius = readNumber(words[17]);
+            camera.focusDistance = readNumber(words[19]);
+            if (!(camera.lensRadius >= 0.0f))
+                fail("the lens radius " + inQuotes(words[17]) + " must be 0 or more");
+            if (!(camera.focusDistance > 0.0f))
+                fail("the focus distance " + inQuotes(words[19]) + " must be positive");
+        }
         scene_.camera = camera;
         cameraLine_ = lineNumber_;
     }
@@ -213,7 +243,13 @@ private:
         material.line = lineNumber_;
         const std::string_view kind = words[1];
         size_t next = 2;  // the first word after the kind
-        if (kind == "albedo") {
+        if (kind == "albedo" && words.size() > 2 && words[2] == "texture") {
+            material.kind = MaterialKind::Diffuse;
+            if (words.size() < 4)
+                fail("'albedo texture' needs the name of a texture");
+            material.texture = int32_t(textureIndex(words[3]));
+            next += 2;
+        } else if (kind == "albedo") {
             material.kind = MaterialKind::Diffuse;
             material.albedo = readFraction(words, next, "albedo");
             next += 3;
@@ -279,6 +315,62 @@ private:
         materialLines_[key] = lineNumber_;
         materialIndex_[key] = uint32_t(scene_.materials.size());
         scene_.materials.push_back(material);
+    }
+
+    // texture NAME image PATH [linear]
+    //         NAME checker R G B R G B [scale S]
+    void readTexture(const Words& words) {
+        if (words.size() < 2)
+            fail("'texture' needs a name and a kind (NAME image PATH [linear], "
+                 "NAME checker R G B R G B [scale S])");
+        const std::string_view name = words[0];
+        if (!isName(name))
+            fail("texture name " + inQuotes(name) + ": " + kNameRule);
+        const std::string key(name);
+        if (const auto earlier = textureIndex_.find(key); earlier != textureIndex_.end())
+            fail("texture " + inQuotes(name) + " is already defined on line " +
+                 std::to_string(scene_.textures[earlier->second].line));
+        SceneTexture texture;
+        texture.name = key;
+        texture.line = lineNumber_;
+        if (words[1] == "image") {
+            const bool linear = words.size() == 4 && words[3] == "linear";
+            if (words.size() != 3 && !linear)
+                fail("'texture NAME image PATH' takes only the word 'linear' after PATH");
+            texture.kind = TextureKind::Image;
+            texture.writtenPath = std::string(words[2]);
+            texture.path = findFile(texture.writtenPath, "image file");
+            texture.linear = linear;
+            const std::string problem = imageProblem(texture.path);
+            if (!problem.empty())
+                fail("image " + inQuotes(texture.writtenPath) + " (" + texture.path +
+                     ") is " + (problem.rfind("not ", 0) == 0 ? "" : "too big: ") + problem);
+        } else if (words[1] == "checker") {
+            texture.kind = TextureKind::Checker;
+            texture.color0 = readFraction(words, 2, "checker colour");
+            texture.color1 = readFraction(words, 5, "checker colour");
+            if (words.size() == 10) {
+                expectLabel(words, 8, "scale", "texture");
+                texture.scale = readNumber(words[9]);
+                if (!(texture.scale > 0.0f))
+                    fail("the checker's scale " + inQuotes(words[9]) + " must be positive");
+            } else if (words.size() != 8) {
+                fail("'texture NAME checker' needs two colours R G B R G B, then "
+                     "optionally scale S");
+            }
+        } else {
+            fail("unknown texture kind " + inQuotes(words[1]) + " (expected image or checker)");
+        }
+        textureIndex_[key] = uint32_t(scene_.textures.size());
+        scene_.textures.push_back(texture);
+    }
+
+    // Unlike materials, textures are defined before they are used.
+    uint32_t textureIndex(std::string_view name) const {
+        const auto found = textureIndex_.find(std::string(name));
+        if (found == textureIndex_.end())
+            fail("texture " + inQuotes(name) + " is not defined on an earlier line");
+        return found->second;
     }
 
     void expectWords(const Words& words, size_t atLeast, const char* form) const {
@@ -396,7 +488,7 @@ private:
                  "rotate_y DEGREES, translate X Y Z, name NAME");
         SceneMesh mesh;
         mesh.writtenPath = std::string(words[0]);
-        mesh.path = findMesh(mesh.writtenPath);
+        mesh.path = findFile(mesh.writtenPath, "mesh file");
         mesh.line = lineNumber_;
         bool seen[4] = {false, false, false, false};
         for (size_t i = 2; i < words.size();) {
@@ -431,7 +523,7 @@ private:
     }
 
     // The scene file's folder first, then the folders the program passed in.
-    std::string findMesh(const std::string& written) const {
+    std::string findFile(const std::string& written, const char* what) const {
         const fs::path relative(written);
         std::vector<fs::path> candidates;
         if (relative.is_absolute()) {
@@ -447,16 +539,18 @@ private:
                 return absolutePath(candidate.string());
             tried += (tried.empty() ? "" : ", ") + absolutePath(candidate.string());
         }
-        fail("mesh file " + inQuotes(written) + " not found (looked for " + tried + ")");
+        fail(what + (" " + inQuotes(written)) + " not found (looked for " + tried + ")");
     }
 
     std::string path_;
     std::vector<std::string> meshFolders_;
     AcceptedMaterials accepted_;
+    LensAndTextures lensAndTextures_;
     size_t lineNumber_ = 0;
     size_t cameraLine_ = 0;
     std::unordered_map<std::string, size_t> materialLines_;
     std::unordered_map<std::string, uint32_t> materialIndex_;
+    std::unordered_map<std::string, uint32_t> textureIndex_;
     std::vector<MaterialUse> uses_;
     SceneFile scene_;
 };
@@ -466,8 +560,8 @@ private:
 // --8<-- [start:load]
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders,
-                         AcceptedMaterials accepted) {
-    SceneParser parser(shownPath, meshFolders, accepted);
+                         AcceptedMaterials accepted, LensAndTextures lensAndTextures) {
+    SceneParser parser(shownPath, meshFolders, accepted, lensAndTextures);
     forEachLine(text, shownPath, [&parser](std::string_view line, size_t lineNumber) {
         parser.readLine(line, lineNumber);
     });
@@ -475,10 +569,10 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
 }
 
 SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders,
-                        AcceptedMaterials accepted) {
+                        AcceptedMaterials accepted, LensAndTextures lensAndTextures) {
     const std::string shownPath = absolutePath(path);
     const std::string text = readWholeFile(path, kMostBytes, "a scene file");
-    return parseSceneText(text, shownPath, meshFolders, accepted);
+    return parseSceneText(text, shownPath, meshFolders, accepted, lensAndTextures);
 }
 
 const char* materialKindWord(MaterialKind kind) {
@@ -535,12 +629,26 @@ std::string formatSceneFile(const SceneFile& scene) {
     const SceneCamera& camera = scene.camera;
     std::string text = "camera eye " + numbers(camera.eye) + " look " + numbers(camera.look) +
                        " up " + numbers(camera.up) + " focal " + number(camera.focalLength) +
-                       " sensor " + number(camera.sensorWidth) + "\n";
+                       " sensor " + number(camera.sensorWidth);
+    if (camera.lensRadius > 0.0f)
+        text += " lens " + number(camera.lensRadius) + " focus " + number(camera.focusDistance);
+    text += "\n";
+    for (const SceneTexture& texture : scene.textures) {
+        if (texture.kind == TextureKind::Image)
+            text += "texture " + texture.name + " image " + texture.writtenPath +
+                    (texture.linear ? " linear\n" : "\n");
+        else
+            text += "texture " + texture.name + " checker " + numbers(texture.color0) + " " +
+                    numbers(texture.color1) + " scale " + number(texture.scale) + "\n";
+    }
     for (const SceneMaterial& material : scene.materials) {
         text += "material " + material.name + " " + materialKindWord(material.kind);
         switch (material.kind) {
         case MaterialKind::Diffuse:
-            text += " " + numbers(material.albedo);
+            if (material.texture >= 0)
+                text += " texture " + scene.textures.at(size_t(material.texture)).name;
+            else
+                text += " " + numbers(material.albedo);
             if (material.emits()) text += " emission " + numbers(material.emission);
             break;
         case MaterialKind::Mirror:

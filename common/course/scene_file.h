@@ -1,18 +1,34 @@
 // Scenes as small text files (assets/scenes/*.scene), read by a strict line parser.
-// The scene-file reader of chapters 11, 12, 13 and the appendix; no chapter teaches it, so
+// The scene-file reader of chapters 10 and later, and the appendix; no chapter teaches it, so
 // it lives here once. No GL: a chapter turns a SceneFile into what its shaders read,
 // and loads the meshes it names with its own OBJ loader (chapter 07's lesson).
 //
 // The format, one statement per line; `#` starts a comment; numbers are decimal (1,
 // -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
 //
-//   camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+//   camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
 //       a pinhole camera (python_prototypes/camera_rays.py): the eye, a viewing direction
 //       (not a point), roughly-up, the focal length and the sensor's *width*; exactly
-//       one per file. Its horizontal field of view is 2 atan(S / 2F).
+//       one per file. Its horizontal field of view is 2 atan(S / 2F). With `lens`, a
+//       thin lens (python_prototypes/thin_lens.py): an aperture of RADIUS >= 0 metres
+//       centred on the eye, sharp on the plane DISTANCE > 0 metres in front of it
+//       (Mitsuba 3's `thinlens`, aperture_radius and focus_distance); RADIUS 0 is the
+//       pinhole again.
+//   texture NAME image PATH [linear]
+//       a PNG or JPEG image, found as a mesh's PATH is; its 8-bit values are sRGB-encoded
+//       and decoded to linear at load, unless `linear` says they are linear already.
+//       Looked up bilinearly between texel centres and repeated beyond [0, 1]:
+//       Mitsuba's `bitmap` (filter_type bilinear, wrap_mode repeat, raw for linear).
+//   texture NAME checker R G B R G B [scale S]
+//       squares of two colours (each channel in [0, 1]), S > 0 squares of each colour
+//       per unit of texture coordinate (default 1): Mitsuba's `checkerboard`.
+//       A texture must be defined before the material that uses it.
 //   material NAME albedo R G B [emission R G B]
-//       a Lambertian surface reflecting a fraction R G B in [0, 1] of the light; with
-//       `emission`, also a light giving out that radiance (W / m^2 / sr, per channel).
+//   material NAME albedo texture TEXTURE [emission R G B]
+//       a Lambertian surface reflecting a fraction R G B in [0, 1] of the light, or the
+//       fraction a texture gives where the surface is hit; with `emission`, also a light
+//       giving out that radiance (W / m^2 / sr, per channel). A textured material is for
+//       quads (u along the first edge, v along the second) and meshes (their OBJ `vt`).
 //       NAME: letters, digits, '_' and '-'; each name once. A material may be used
 //       before the line that defines it.
 //   material NAME mirror [reflectance R G B]
@@ -64,6 +80,21 @@ struct SceneCamera {
     glm::vec3 eye{0.0f}, look{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
     float focalLength = 0.035f;  // metres
     float sensorWidth = 0.036f;  // metres
+    float lensRadius = 0.0f;     // metres; 0: a pinhole
+    float focusDistance = 1.0f;  // metres along the view direction, where a lens is sharp
+};
+
+enum class TextureKind { Image, Checker };
+
+struct SceneTexture {
+    std::string name;
+    TextureKind kind = TextureKind::Image;
+    std::string path;         // image: absolute, where the file was found
+    std::string writtenPath;  // image: as written in the scene file
+    bool linear = false;      // image: its values are linear, not sRGB-encoded
+    glm::vec3 color0{0.0f}, color1{1.0f};  // checker: the two colours
+    float scale = 1.0f;                    // checker: squares per unit of u and of v
+    size_t line = 0;
 };
 
 enum class MaterialKind { Diffuse, Mirror, Conductor, Dielectric };
@@ -72,6 +103,7 @@ struct SceneMaterial {
     std::string name;
     MaterialKind kind = MaterialKind::Diffuse;
     glm::vec3 albedo{0.0f};       // diffuse: reflected fraction per channel, in [0, 1]
+    int32_t texture = -1;         // diffuse: the index in SceneFile::textures, or -1: albedo
     glm::vec3 emission{0.0f};     // diffuse: emitted radiance; zero for one that only reflects
     glm::vec3 reflectance{1.0f};  // mirror: reflected fraction per channel, in [0, 1]
     glm::vec3 eta{1.0f}, k{0.0f};  // conductor: the complex index of refraction per channel
@@ -119,6 +151,7 @@ struct SceneMesh {
 struct SceneFile {
     std::string path;  // absolute
     SceneCamera camera;
+    std::vector<SceneTexture> textures;
     std::vector<SceneMaterial> materials;
     std::vector<SceneSphere> spheres;
     std::vector<SceneQuad> quads;
@@ -134,18 +167,23 @@ struct SceneFile {
 // its line, rather than a picture that silently shows it as something else. Opaque:
 // diffuse, mirror and conductor, everything light does not pass through (no glass).
 enum class AcceptedMaterials { DiffuseOnly, Opaque, All };
+// Whether a program has a thin lens and textures (chapter 17 on): a scene using them
+// in one that has not is exit code 3 at the line, as for materials.
+enum class LensAndTextures { Refused, Accepted };
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
 // scene file's own folder.
 SceneFile loadSceneFile(const std::string& path,
                         const std::vector<std::string>& meshFolders = {},
-                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly);
+                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
+                        LensAndTextures lensAndTextures = LensAndTextures::Refused);
 
 // The same, from text already in memory: shownPath names it in messages and its folder
 // is where mesh paths are looked up first.
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders = {},
-                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly);
+                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
+                         LensAndTextures lensAndTextures = LensAndTextures::Refused);
 
 // "albedo", "mirror", "conductor" or "dielectric": the word the format uses.
 const char* materialKindWord(MaterialKind kind);

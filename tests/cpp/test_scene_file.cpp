@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "course/error.h"
+#include "course/image_file.h"
 #include "course/scene_file.h"
 
 namespace fs = std::filesystem;
@@ -23,6 +24,7 @@ using course::formatSceneFile;
 using course::loadSceneFile;
 using course::parseSceneText;
 using course::AcceptedMaterials;
+using course::LensAndTextures;
 using course::MaterialKind;
 using course::SceneFile;
 using course::SceneMesh;
@@ -54,10 +56,11 @@ protected:
     // The message loadSceneFile throws for `text`; fails the test if it loads.
     std::string failure(const std::string& text,
                         const std::vector<std::string>& meshFolders = {},
-                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly) const {
+                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
+                        LensAndTextures lens = LensAndTextures::Refused) const {
         const fs::path path = write("bad.scene", text);
         try {
-            loadSceneFile(path.string(), meshFolders, accepted);
+            loadSceneFile(path.string(), meshFolders, accepted, lens);
             ADD_FAILURE() << "loaded:\n" << text;
         } catch (const course::Failure& error) {
             EXPECT_EQ(error.code(), ExitCode::BadInput) << error.what();
@@ -93,8 +96,23 @@ void expectSameScene(const SceneFile& a, const SceneFile& b) {
     expectSameVector(a.camera.up, b.camera.up);
     EXPECT_EQ(a.camera.focalLength, b.camera.focalLength);
     EXPECT_EQ(a.camera.sensorWidth, b.camera.sensorWidth);
+    EXPECT_EQ(a.camera.lensRadius, b.camera.lensRadius);
+    if (a.camera.lensRadius > 0.0f) {
+        EXPECT_EQ(a.camera.focusDistance, b.camera.focusDistance);
+    }
+    ASSERT_EQ(a.textures.size(), b.textures.size());
+    for (size_t i = 0; i < a.textures.size(); ++i) {
+        EXPECT_EQ(a.textures[i].name, b.textures[i].name);
+        EXPECT_EQ(a.textures[i].kind, b.textures[i].kind);
+        EXPECT_EQ(a.textures[i].path, b.textures[i].path);
+        EXPECT_EQ(a.textures[i].linear, b.textures[i].linear);
+        expectSameVector(a.textures[i].color0, b.textures[i].color0);
+        expectSameVector(a.textures[i].color1, b.textures[i].color1);
+        EXPECT_EQ(a.textures[i].scale, b.textures[i].scale);
+    }
     ASSERT_EQ(a.materials.size(), b.materials.size());
     for (size_t i = 0; i < a.materials.size(); ++i) {
+        EXPECT_EQ(a.materials[i].texture, b.materials[i].texture);
         EXPECT_EQ(a.materials[i].name, b.materials[i].name);
         expectSameVector(a.materials[i].albedo, b.materials[i].albedo);
         expectSameVector(a.materials[i].emission, b.materials[i].emission);
@@ -291,19 +309,26 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
         std::ifstream text(entry.path());
         for (std::string line; std::getline(text, line);) {
             std::istringstream words(line);
-            std::string keyword, meshPath;
-            if (words >> keyword >> meshPath && keyword == "mesh")
-                write("generated/" + meshPath, "v 0 0 0\n");
+            std::string keyword, first, kind, imagePath;
+            if (words >> keyword >> first && keyword == "mesh")
+                write("generated/" + first, "v 0 0 0\n");
+            if (keyword == "texture" && words >> kind >> imagePath && kind == "image") {
+                fs::create_directories((generated / imagePath).parent_path());
+                course::writeImage((generated / imagePath).string(), {1, 1, {1, 1, 1, 1}});
+            }
         }
         // Every kind of material: chapters 15 and 16 ship metals and glass.
         const SceneFile scene = loadSceneFile(entry.path().string(), {generated.string()},
-                                              AcceptedMaterials::All);
+                                              AcceptedMaterials::All, LensAndTextures::Accepted);
         // Every scene is lit; the grader's scene of two lights has two (chapter 12's
         // choice of light).
         EXPECT_GE(scene.emitterCount(), 1u);
-        if (entry.path().stem() == "cornell_two_lights") EXPECT_EQ(scene.emitterCount(), 2u);
+        if (entry.path().stem() == "cornell_two_lights") {
+            EXPECT_EQ(scene.emitterCount(), 2u);
+        }
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,
-                                               {generated.string()}, AcceptedMaterials::All);
+                                               {generated.string()}, AcceptedMaterials::All,
+                                               LensAndTextures::Accepted);
         expectSameScene(scene, again);
         ++count;
     }
@@ -344,8 +369,8 @@ TEST_F(SceneFileTest, EmptyFile) { EXPECT_EQ(failure(""), at(0, "empty file")); 
 
 TEST_F(SceneFileTest, UnknownKeyword) {
     EXPECT_EQ(failure(kValid + "cylinder 0 0 0 1 lamp\n"),
-              at(4, "unknown keyword 'cylinder' (expected camera, material, sphere, quad, "
-                    "triangle or mesh)"));
+              at(4, "unknown keyword 'cylinder' (expected camera, texture, material, sphere, "
+                    "quad, triangle or mesh)"));
 }
 
 TEST_F(SceneFileTest, WrongNumberOfFields) {
@@ -365,7 +390,7 @@ TEST_F(SceneFileTest, WrongNumberOfFields) {
                     "NAME conductor eta R G B k R G B, NAME dielectric ior N)"));
     EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 1\n"),
               at(1, "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor "
-                    "S), got 14"));
+                    "S, then optionally lens RADIUS focus DISTANCE), got 14"));
     EXPECT_EQ(failure(kValid + "mesh x.obj\n"),
               at(4, "'mesh' needs a PATH and a MATERIAL, then optionally scale S, rotate_y "
                     "DEGREES, translate X Y Z, name NAME"));
@@ -524,6 +549,101 @@ TEST_F(SceneFileTest, Camera) {
               at(0, "no camera: a scene needs one 'camera' line"));
 }
 
+// ---------------------------------------------------------------------------------------
+// The thin lens and textures (chapter 17 on)
+// ---------------------------------------------------------------------------------------
+
+const std::string kLensCamera =
+    "camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036 lens 0.01 focus 2.5\n";
+
+TEST_F(SceneFileTest, LensAndTexturesAreReadAndWrittenBack) {
+    course::Image tiny{2, 1, {0.2f, 0.4f, 0.6f, 1, 1, 1, 1, 1}};
+    fs::create_directories(folder_ / "generated" / "textures");
+    course::writeImage((folder_ / "generated" / "textures" / "tiny.png").string(), tiny);
+    write("m.obj", "v 0 0 0\n");
+    const std::string text = kLensCamera +
+                             "texture photo image textures/tiny.png\n"
+                             "texture normals image textures/tiny.png linear\n"
+                             "texture tiles checker 0.1 0.2 0.3 0.9 0.8 0.7 scale 4\n"
+                             "texture plain checker 0 0 0 1 1 1\n"
+                             "material floor albedo texture tiles\n"
+                             "material lamp albedo texture photo emission 1 1 1\n"
+                             "quad 0 0 0 1 0 0 0 0 -1 floor\n"
+                             "mesh m.obj lamp\n";
+    const std::string path = (folder_ / "x.scene").string();
+    const std::vector<std::string> folders = {(folder_ / "generated").string()};
+    const SceneFile scene = parseSceneText(text, path, folders, AcceptedMaterials::All,
+                                           LensAndTextures::Accepted);
+    EXPECT_EQ(scene.camera.lensRadius, 0.01f);
+    EXPECT_EQ(scene.camera.focusDistance, 2.5f);
+    ASSERT_EQ(scene.textures.size(), 4u);
+    EXPECT_EQ(scene.textures[0].kind, course::TextureKind::Image);
+    EXPECT_EQ(scene.textures[0].path, (folder_ / "generated" / "textures" / "tiny.png").string());
+    EXPECT_FALSE(scene.textures[0].linear);
+    EXPECT_TRUE(scene.textures[1].linear);
+    EXPECT_EQ(scene.textures[2].kind, course::TextureKind::Checker);
+    expectSameVector(scene.textures[2].color1, {0.9f, 0.8f, 0.7f});
+    EXPECT_EQ(scene.textures[2].scale, 4.0f);
+    EXPECT_EQ(scene.textures[3].scale, 1.0f);
+    EXPECT_EQ(scene.materials[0].texture, 2);
+    EXPECT_EQ(scene.materials[1].texture, 0);
+    EXPECT_EQ(scene.materials[1].emission, glm::vec3(1.0f));
+    const std::string formatted = formatSceneFile(scene);
+    const SceneFile again = parseSceneText(formatted, path, folders, AcceptedMaterials::All,
+                                           LensAndTextures::Accepted);
+    expectSameScene(scene, again);
+    EXPECT_EQ(formatSceneFile(again), formatted);
+}
+
+TEST_F(SceneFileTest, LensAndTextureMistakes) {
+    auto lens = [this](const std::string& text) {
+        return failure(text, {}, AcceptedMaterials::All, LensAndTextures::Accepted);
+    };
+    const std::string pinhole = kCamera.substr(0, kCamera.size() - 1);
+    EXPECT_EQ(lens(pinhole + " lens -0.1 focus 2\n"),
+              at(1, "the lens radius '-0.1' must be 0 or more"));
+    EXPECT_EQ(lens(pinhole + " lens 0.1 focus 0\n"),
+              at(1, "the focus distance '0' must be positive"));
+    EXPECT_EQ(lens(pinhole + " lens 0.1 focal 2\n"),
+              at(1, "'camera' expects 'focus' here, got 'focal'"));
+    EXPECT_EQ(lens(kValid + "material m albedo texture wood\ntexture wood checker 0 0 0 1 1 1\n"),
+              at(4, "texture 'wood' is not defined on an earlier line"));
+    EXPECT_EQ(lens(kValid + "texture t checker 0 0 0 1 1 1\ntexture t checker 0 0 0 1 1 1\n"),
+              at(5, "texture 't' is already defined on line 4"));
+    EXPECT_EQ(lens(kValid + "texture t checker 0 0 0 1 1 2\n"),
+              at(4, "checker colour '2' is outside [0, 1]: a surface cannot reflect more "
+                    "light than reaches it"));
+    EXPECT_EQ(lens(kValid + "texture t checker 0 0 0 1 1 1 scale -2\n"),
+              at(4, "the checker's scale '-2' must be positive"));
+    EXPECT_EQ(lens(kValid + "texture t marble\n"),
+              at(4, "unknown texture kind 'marble' (expected image or checker)"));
+    EXPECT_EQ(lens(kValid + "texture t image missing.png\n"),
+              at(4, "image file 'missing.png' not found (looked for " +
+                        (folder_ / "missing.png").string() + ")"));
+    write("fake.png", "this is text, not a picture\n");
+    EXPECT_EQ(lens(kValid + "texture t image fake.png\n"),
+              at(4, "image 'fake.png' (" + (folder_ / "fake.png").string() +
+                        ") is not a PNG or JPEG image (unknown image type)"));
+    EXPECT_EQ(lens(kValid + "texture t image fake.png srgb\n"),
+              at(4, "'texture NAME image PATH' takes only the word 'linear' after PATH"));
+    // A textured material on a shape without texture coordinates, wherever it is defined.
+    EXPECT_EQ(lens(kValid + "sphere 0 0 0 1 tiled\ntexture t checker 0 0 0 1 1 1\n"
+                            "material tiled albedo texture t\n"),
+              at(4, "material 'tiled' is textured, and this shape has no texture coordinates: "
+                    "textures apply to quads and meshes"));
+}
+
+TEST_F(SceneFileTest, ProgramsWithoutLensOrTexturesSaySo) {
+    const std::string later = ": this program has a pinhole camera and no textures; the "
+                              "thin lens and textures come in chapter 17";
+    EXPECT_EQ(failure(kValid + "texture t checker 0 0 0 1 1 1\n"), at(4, "texture 't'" + later));
+    EXPECT_EQ(failure(kLensCamera + kValid.substr(kCamera.size())),
+              at(1, "the camera has a lens" + later));
+    // A lens of radius 0 is a pinhole: every program renders it.
+    const std::string pinhole = kCamera.substr(0, kCamera.size() - 1) + " lens 0 focus 3\n";
+    EXPECT_NO_THROW(parseSceneText(pinhole + kValid.substr(kCamera.size()), "x"));
+}
+
 TEST_F(SceneFileTest, NoEmitter) {
     const std::string message = "no emitter: no shape uses a material with an emission";
     EXPECT_EQ(failure(kCamera + "material white albedo 1 1 1\nsphere 0 0 0 1 white\n"),
@@ -587,7 +707,8 @@ TEST_F(SceneFileTest, GarbageNeverCrashes) {
     const std::vector<std::string> words = {
         "camera", "material", "sphere", "quad", "triangle", "mesh", "eye", "look", "up",
         "focal", "sensor", "albedo", "emission", "name", "scale", "rotate_y", "translate",
-        "lamp", "0", "1", "-1", "1e3", "nan", "#", "\n", "\n", " ", "\t", "x.obj"};
+        "lamp", "0", "1", "-1", "1e3", "nan", "#", "\n", "\n", " ", "\t", "x.obj",
+        "texture", "checker", "image", "lens", "focus"};
     for (int trial = 0; trial < 400; ++trial) {
         std::string text = trial % 4 == 0 ? std::string() : kValid;
         const int length = int(random() % 60);

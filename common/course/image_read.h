@@ -1,0 +1,27 @@
+// Reading PNG and JPEG images for textures, with stb_image (compiled once in
+// common/stb_image.cpp). Decoding image files is not a lesson of the course; what a
+// texture does with the values (sRGB decoding, filtering) is, in chapter 17.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace course {
+
+// The largest image side read: 8192 texels (a 256 MiB float texture at most).
+constexpr int kMostImageSide = 8192;
+
+struct Image8 {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;  // row 0 is the TOP row of the file, 3 bytes per texel
+};
+
+// Empty when `path` is a PNG or JPEG image of a size we read, else what is wrong with
+// it ("not a PNG or JPEG image: ...", "16385 x 2 texels: ..."). Reads only the header.
+std::string imageProblem(const std::string& path);
+
+// The whole image as 8-bit RGB (grey is repeated into R, G and B; alpha is dropped).
+// Throws Failure(BadInput) naming the file when it cannot be read.
+Image8 readImage8(const std::string& path);
+
+}  // namespace course
