@@ -2,8 +2,11 @@
 Python twin of common/scene_file.cpp. The format is described in
 common/course/scene_file.h and in assets/scenes/README.md:
 
-    camera eye X Y Z look X Y Z up X Y Z focal F sensor S
+    camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
+    texture NAME image PATH [linear]
+    texture NAME checker R G B R G B [scale S]
     material NAME albedo R G B [emission R G B]
+    material NAME albedo texture TEXTURE [emission R G B]
     material NAME mirror [reflectance R G B]
     material NAME conductor eta R G B k R G B [roughness A]
     material NAME dielectric ior N [roughness A]
@@ -13,7 +16,8 @@ common/course/scene_file.h and in assets/scenes/README.md:
     mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
 
 load_scene(path, mesh_folders) -> Scene. Any problem raises SceneError("file:line: ...");
-line 0 means the file as a whole.
+line 0 means the file as a whole. Image paths are found as mesh paths are; what a
+texture does with its values is textures.py's (the numpy reference).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import camera_rays  # noqa: E402
+import textures  # noqa: E402
 
 CONTROL_BYTES = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")  # all but \t \n \r
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*\Z")
@@ -51,10 +56,19 @@ class SceneCamera:
     up: tuple
     focal_length: float
     sensor_width: float
+    lens_radius: float = 0.0     # the aperture's radius (metres); 0 is the pinhole
+    focus_distance: float = 0.0  # with a lens: the sharp plane, metres along look
 
     def as_camera(self) -> camera_rays.Camera:
         return camera_rays.Camera(self.eye, self.look, self.up, self.focal_length,
                                   self.sensor_width)
+
+    def as_thin_lens_camera(self):
+        """thin_lens.py's camera, which takes the aperture's diameter, not its radius."""
+        import thin_lens
+        return thin_lens.ThinLensCamera(self.eye, self.look, self.up, self.focal_length,
+                                        self.sensor_width, 2.0 * self.lens_radius,
+                                        self.focus_distance)
 
     def horizontal_fov_degrees(self) -> float:
         """The angle the sensor's width spans seen from the eye."""
@@ -62,9 +76,24 @@ class SceneCamera:
 
 
 @dataclass
+class Texture:
+    """texture NAME image PATH [linear] | NAME checker R G B R G B [scale S]"""
+    name: str
+    kind: str                          # "image" or "checker"
+    path: Path | None = None           # image: absolute, where the file was found
+    written_path: str = ""             # image: as the scene file writes it
+    linear: bool = False               # image: values already linear, not sRGB
+    color0: tuple = (0.0, 0.0, 0.0)    # checker: the two colours
+    color1: tuple = (1.0, 1.0, 1.0)
+    scale: float = 1.0                 # checker: squares of each colour per unit of u, v
+    line: int = 0
+
+
+@dataclass
 class Material:
     name: str
     albedo: tuple = (0.0, 0.0, 0.0)    # albedo: the reflected fraction per channel
+    texture: str | None = None         # albedo: a texture's name, used instead of albedo
     emission: tuple = (0.0, 0.0, 0.0)  # albedo only: the emitted radiance
     kind: str = "albedo"               # "albedo", "mirror", "conductor" or "dielectric"
     reflectance: tuple = (1.0, 1.0, 1.0)  # mirror
@@ -138,6 +167,7 @@ class Mesh:
 class Scene:
     path: Path
     camera: SceneCamera
+    textures: dict = field(default_factory=dict)   # name -> Texture, in file order
     materials: dict = field(default_factory=dict)  # name -> Material, in file order
     spheres: list = field(default_factory=list)
     quads: list = field(default_factory=list)
@@ -209,9 +239,10 @@ def is_degenerate(edge1, edge2) -> bool:
 
 
 def read_camera(words) -> SceneCamera:
-    if len(words) != 16:
+    if len(words) not in (16, 20):
         raise SceneError("'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F "
-                         f"sensor S), got {len(words)}")
+                         "sensor S, then optionally lens RADIUS focus DISTANCE), got "
+                         f"{len(words)}")
     for index, label in [(0, "eye"), (4, "look"), (8, "up"), (12, "focal"), (14, "sensor")]:
         expect_label(words, index, label, "camera")
     camera = SceneCamera(vector(words, 1), vector(words, 5), vector(words, 9),
@@ -225,6 +256,14 @@ def read_camera(words) -> SceneCamera:
         raise SceneError("the camera's up must not be parallel to its look direction")
     if not (camera.focal_length > 0 and camera.sensor_width > 0):
         raise SceneError("the camera's focal length and sensor width must be positive")
+    if len(words) == 20:
+        expect_label(words, 16, "lens", "camera")
+        expect_label(words, 18, "focus", "camera")
+        camera.lens_radius, camera.focus_distance = number(words[17]), number(words[19])
+        if not camera.lens_radius >= 0:
+            raise SceneError(f"the lens radius '{words[17]}' must be 0 or more")
+        if not camera.focus_distance > 0:
+            raise SceneError(f"the focus distance '{words[19]}' must be positive")
     return camera
 
 
@@ -247,9 +286,11 @@ def read_non_negative(words, first: int, what: str) -> tuple:
     return values
 
 
-def read_material(words) -> Material:
-    """material NAME albedo R G B [emission R G B] | NAME mirror [reflectance R G B] |
-    NAME conductor eta R G B k R G B [roughness A] | NAME dielectric ior N [roughness A]"""
+def read_material(words, textures) -> Material:
+    """material NAME albedo R G B [emission R G B] | NAME albedo texture TEX [emission
+    R G B] | NAME mirror [reflectance R G B] | NAME conductor eta R G B k R G B
+    [roughness A] | NAME dielectric ior N [roughness A]. `textures` are those defined on
+    earlier lines: unlike a material, a texture comes before its use."""
     if len(words) < 2:
         raise SceneError("'material' needs a name and a kind (NAME albedo R G B, NAME "
                          "mirror, NAME conductor eta R G B k R G B, NAME dielectric ior N)")
@@ -259,7 +300,14 @@ def read_material(words) -> Material:
                          "starting with a letter or '_'")
     material = Material(name, kind=kind)
     at = 2  # the first word after the kind
-    if kind == "albedo":
+    if kind == "albedo" and len(words) > at and words[at] == "texture":
+        if len(words) < at + 2:
+            raise SceneError("'albedo texture' needs the name of a texture")
+        if words[at + 1] not in textures:
+            raise SceneError(f"texture '{words[at + 1]}' is not defined on an earlier line")
+        material.texture = words[at + 1]
+        at += 2
+    elif kind == "albedo":
         material.albedo = read_fraction(words, at, "albedo")
         at += 3
     elif kind == "mirror":
@@ -315,21 +363,58 @@ def read_material(words) -> Material:
     return material
 
 
-def find_mesh(written: str, scene_path: Path, mesh_folders) -> Path:
+def find_file(written: str, scene_path: Path, mesh_folders, what="mesh file") -> Path:
+    """A mesh's or an image's PATH: the scene file's folder first, then mesh_folders."""
     candidates = [Path(written)] if Path(written).is_absolute() else \
         [scene_path.parent / written] + [Path(folder) / written for folder in mesh_folders]
     for candidate in candidates:
         if candidate.is_file():
             return absolute(candidate)
     tried = ", ".join(str(absolute(c)) for c in candidates)
-    raise SceneError(f"mesh file '{written}' not found (looked for {tried})")
+    raise SceneError(f"{what} '{written}' not found (looked for {tried})")
+
+
+def read_texture(words, scene_path, mesh_folders, line) -> Texture:
+    """texture NAME image PATH [linear] | NAME checker R G B R G B [scale S]"""
+    if len(words) < 2:
+        raise SceneError("'texture' needs a name and a kind (NAME image PATH [linear], "
+                         "NAME checker R G B R G B [scale S])")
+    name, kind = words[0], words[1]
+    if not NAME.match(name):
+        raise SceneError(f"texture name '{name}': use letters, digits, '_' and '-', "
+                         "starting with a letter or '_'")
+    texture = Texture(name, kind, line=line)
+    if kind == "image":
+        linear = len(words) == 4 and words[3] == "linear"
+        if len(words) != 3 and not linear:
+            raise SceneError("'texture NAME image PATH' takes only the word 'linear' "
+                             "after PATH")
+        texture.written_path, texture.linear = words[2], linear
+        texture.path = find_file(words[2], scene_path, mesh_folders, "image file")
+        problem = textures.image_problem(texture.path)
+        if problem:
+            raise SceneError(f"image '{words[2]}' ({texture.path}) is {problem}")
+    elif kind == "checker":
+        texture.color0 = read_fraction(words, 2, "checker colour")
+        texture.color1 = read_fraction(words, 5, "checker colour")
+        if len(words) == 10:
+            expect_label(words, 8, "scale", "texture")
+            texture.scale = number(words[9])
+            if not texture.scale > 0:
+                raise SceneError(f"the checker's scale '{words[9]}' must be positive")
+        elif len(words) != 8:
+            raise SceneError("'texture NAME checker' needs two colours R G B R G B, then "
+                             "optionally scale S")
+    else:
+        raise SceneError(f"unknown texture kind '{kind}' (expected image or checker)")
+    return texture
 
 
 def read_mesh(words, scene_path, mesh_folders, line) -> Mesh:
     if len(words) < 2:
         raise SceneError("'mesh' needs a PATH and a MATERIAL, then optionally scale S, "
                          "rotate_y DEGREES, translate X Y Z, name NAME")
-    mesh = Mesh(find_mesh(words[0], scene_path, mesh_folders), words[0], words[1],
+    mesh = Mesh(find_file(words[0], scene_path, mesh_folders), words[0], words[1],
                 line=line)
     seen = set()
     i = 2
@@ -364,7 +449,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
     """Parses scene text; `path` names it in messages and anchors relative mesh paths."""
     path = absolute(path)
     camera, camera_line = None, 0
-    materials, material_lines, uses = {}, {}, []
+    materials, material_lines, uses = {}, {}, []  # uses: (line, material, shape kind)
     scene = Scene(path, None)
 
     def fail(line, message):
@@ -385,8 +470,14 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 if camera is not None:
                     raise SceneError(f"a second camera (the first is on line {camera_line})")
                 camera, camera_line = read_camera(words), line_number
+            elif keyword == "texture":
+                texture = read_texture(words, path, mesh_folders, line_number)
+                if texture.name in scene.textures:
+                    raise SceneError(f"texture '{texture.name}' is already defined on "
+                                     f"line {scene.textures[texture.name].line}")
+                scene.textures[texture.name] = texture
             elif keyword == "material":
-                material = read_material(words)
+                material = read_material(words, scene.textures)
                 if material.name in materials:
                     raise SceneError(f"material '{material.name}' is already defined on "
                                      f"line {material_lines[material.name]}")
@@ -397,7 +488,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 center, radius = vector(fields, 0), number(fields[3])
                 if not radius > 0:
                     raise SceneError(f"the sphere's radius must be positive, got '{fields[3]}'")
-                uses.append((line_number, fields[4]))
+                uses.append((line_number, fields[4], "sphere"))
                 scene.spheres.append(Sphere(center, radius, fields[4], name))
             elif keyword == "quad":
                 fields, name = shape_fields("quad", words, 10,
@@ -407,7 +498,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 if is_degenerate(quad.edge1, quad.edge2):
                     raise SceneError("the quad has zero area: an edge is zero or the two "
                                      "edges are parallel")
-                uses.append((line_number, quad.material))
+                uses.append((line_number, quad.material, "quad"))
                 scene.quads.append(quad)
             elif keyword == "triangle":
                 fields, name = shape_fields("triangle", words, 10,
@@ -417,21 +508,25 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 a, b, c = (np.array(p) for p in (triangle.p0, triangle.p1, triangle.p2))
                 if is_degenerate(b - a, c - a):
                     raise SceneError("the triangle has zero area: its corners are on one line")
-                uses.append((line_number, triangle.material))
+                uses.append((line_number, triangle.material, "triangle"))
                 scene.triangles.append(triangle)
             elif keyword == "mesh":
                 mesh = read_mesh(words, path, mesh_folders, line_number)
-                uses.append((line_number, mesh.material))
+                uses.append((line_number, mesh.material, "mesh"))
                 scene.meshes.append(mesh)
             else:
-                raise SceneError(f"unknown keyword '{keyword}' (expected camera, material, "
-                                 "sphere, quad, triangle or mesh)")
+                raise SceneError(f"unknown keyword '{keyword}' (expected camera, texture, "
+                                 "material, sphere, quad, triangle or mesh)")
         except SceneError as error:
             fail(line_number, str(error))
 
-    for line_number, material in uses:
+    for line_number, material, kind in uses:
         if material not in materials:
             fail(line_number, f"material '{material}' is not defined")
+        # A sphere or a triangle line has no (u, v) to look a texture up with.
+        if materials[material].texture is not None and kind not in ("quad", "mesh"):
+            fail(line_number, f"material '{material}' is textured, and this shape has no "
+                              "texture coordinates: textures apply to quads and meshes")
     if camera is None:
         fail(0, "no camera: a scene needs one 'camera' line")
     scene.camera = camera
@@ -456,5 +551,5 @@ def load_scene(path, mesh_folders=()) -> Scene:
 
 
 def default_mesh_folders():
-    """The build's generated assets (cmake/Assets.cmake), where gems.py writes meshes/."""
+    """The build's generated assets (cmake/Assets.cmake): meshes/ and textures/."""
     return [Path(__file__).resolve().parents[1] / "build" / "assets"]

@@ -1,5 +1,6 @@
 """Chapter 11's scene files on the Python side: the reader (python_prototypes/scene_io.py)
-and the gem meshes (python_prototypes/gems.py) that cornell_gems.scene places."""
+and the gem meshes (python_prototypes/gems.py) that cornell_gems.scene places; chapter
+17's words for the thin lens and textures."""
 
 from pathlib import Path
 
@@ -9,6 +10,7 @@ import pytest
 import gems
 import obj_io
 import scene_io
+import texture_images
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "assets" / "scenes"
@@ -99,7 +101,8 @@ def test_reads_every_statement(tmp_path):
 MISTAKES = [
     ("", 0, "empty file"),
     (VALID + "cylinder 0 0 0 1 lamp\n", 4,
-     "unknown keyword 'cylinder' (expected camera, material, sphere, quad, triangle or mesh)"),
+     "unknown keyword 'cylinder' (expected camera, texture, material, sphere, quad, "
+     "triangle or mesh)"),
     (VALID + "sphere 0 0 0 lamp\n", 4,
      "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally name NAME; got 4"),
     (VALID + "material m albedo 1 1\n", 4, "albedo needs three numbers R G B"),
@@ -228,3 +231,127 @@ def test_material_kinds_and_their_mitsuba_words(tmp_path):
     mi = mitsuba_reference.import_mitsuba("scalar_rgb")
     for name, bsdf in words.items():
         assert mi.load_dict(bsdf) is not None, name
+
+
+# ---------------------------------------------------------------------------------------
+# Chapter 17: the thin lens and textures
+# ---------------------------------------------------------------------------------------
+
+CHECKER = "texture t checker 0 0 0 1 1 1\n"
+LENS = CAMERA.replace("sensor 0.036", "sensor 0.036 lens 0.01 focus 2")
+
+
+def test_reads_the_lens_and_the_textures(tmp_path):
+    """Images are found as meshes are: beside the scene, then in the generated assets."""
+    generated = tmp_path / "generated"
+    texture_images.main(["--out", str(generated / "textures")])
+    (tmp_path / "m.obj").write_text("v 0 0 0\n")
+    path = tmp_path / "s.scene"
+    path.write_text(LENS + "texture grid image textures/uv_grid.png\n"
+                    "texture data image textures/test_pattern.png linear\n"
+                    "texture board checker 0.1 0.2 0.3 0.9 0.8 0.7 scale 4\n"
+                    "texture plain checker 0 0 0 1 1 1\n"
+                    "material lamp albedo texture board emission 1 1 1\n"
+                    "material wood albedo texture grid\n"
+                    "quad 0 0 0 1 0 0 0 1 0 lamp\n"
+                    "mesh m.obj wood\n")
+    scene = scene_io.load_scene(path, [generated])
+    camera = scene.camera
+    assert (camera.lens_radius, camera.focus_distance) == (0.01, 2.0)
+    # thin_lens.py's camera takes the diameter.
+    assert camera.as_thin_lens_camera().aperture_diameter == 0.02
+    textures = scene.textures
+    assert list(textures) == ["grid", "data", "board", "plain"]
+    assert textures["grid"].path == generated / "textures" / "uv_grid.png"
+    assert textures["grid"].written_path == "textures/uv_grid.png"
+    assert not textures["grid"].linear and textures["data"].linear
+    assert textures["board"].kind == "checker" and textures["board"].scale == 4
+    assert textures["board"].color1 == (0.9, 0.8, 0.7) and textures["plain"].scale == 1
+    assert textures["grid"].line == 2
+    assert scene.materials["wood"].texture == "grid"
+    assert scene.materials["lamp"].texture == "board" and scene.materials["lamp"].emits
+
+
+def test_lens_zero_is_the_pinhole(tmp_path):
+    path = tmp_path / "s.scene"
+    path.write_text(VALID.replace("sensor 0.036", "sensor 0.036 lens 0 focus 3"))
+    camera = scene_io.load_scene(path).camera
+    assert (camera.lens_radius, camera.focus_distance) == (0.0, 3.0)
+    path.write_text(VALID)
+    assert scene_io.load_scene(path).camera.lens_radius == 0.0
+
+
+TEXTURE_MISTAKES = [
+    (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01"), 1,
+     "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor S, then "
+     "optionally lens RADIUS focus DISTANCE), got 18"),
+    (VALID.replace("sensor 0.036", "sensor 0.036 lens -0.01 focus 2"), 1,
+     "the lens radius '-0.01' must be 0 or more"),
+    (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 focus 0"), 1,
+     "the focus distance '0' must be positive"),
+    (VALID.replace("sensor 0.036", "sensor 0.036 aperture 0.01 focus 2"), 1,
+     "'camera' expects 'lens' here, got 'aperture'"),
+    (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 distance 2"), 1,
+     "'camera' expects 'focus' here, got 'distance'"),
+    (VALID + "texture t\n", 4, "'texture' needs a name and a kind (NAME image PATH "
+     "[linear], NAME checker R G B R G B [scale S])"),
+    (VALID + "texture 1x checker 0 0 0 1 1 1\n", 4,
+     "texture name '1x': use letters, digits, '_' and '-', starting with a letter or '_'"),
+    (VALID + CHECKER + CHECKER, 5, "texture 't' is already defined on line 4"),
+    (VALID + "texture t noise\n", 4, "unknown texture kind 'noise' (expected image or "
+     "checker)"),
+    (VALID + "texture t image a.png srgb\n", 4,
+     "'texture NAME image PATH' takes only the word 'linear' after PATH"),
+    (VALID + "texture t checker 0 0 0 1 1\n", 4, "checker colour needs three numbers R G B"),
+    (VALID + "texture t checker 0 0 0 1 1 2\n", 4, "checker colour '2' is outside [0, 1]: "
+     "a surface cannot reflect more light than reaches it"),
+    (VALID + "texture t checker 0 0 0 1 1 1 scale 0\n", 4,
+     "the checker's scale '0' must be positive"),
+    (VALID + "texture t checker 0 0 0 1 1 1 size 2\n", 4,
+     "'texture' expects 'scale' here, got 'size'"),
+    (VALID + "texture t checker 0 0 0 1 1 1 scale\n", 4,
+     "'texture NAME checker' needs two colours R G B R G B, then optionally scale S"),
+    (VALID + "material m albedo texture\n", 4, "'albedo texture' needs the name of a texture"),
+    (VALID + "material m albedo texture wood\n", 4,
+     "texture 'wood' is not defined on an earlier line"),
+    # A texture is defined before the material that uses it (unlike a material).
+    (VALID + "material m albedo texture t\n" + CHECKER, 4,
+     "texture 't' is not defined on an earlier line"),
+    (VALID + CHECKER + "material m albedo texture t shiny\n", 5,
+     "unexpected 'shiny' in material 'm' (albedo)"),
+    (VALID + CHECKER + "sphere 0 0 0 1 m\nmaterial m albedo texture t\n", 5,
+     "material 'm' is textured, and this shape has no texture coordinates: textures "
+     "apply to quads and meshes"),
+    (VALID + CHECKER + "material m albedo texture t\ntriangle 0 0 0 1 0 0 0 1 0 m\n", 6,
+     "material 'm' is textured, and this shape has no texture coordinates: textures "
+     "apply to quads and meshes"),
+]
+
+
+@pytest.mark.parametrize("text, line, message", TEXTURE_MISTAKES,
+                         ids=[message[:40] for _, _, message in TEXTURE_MISTAKES])
+def test_lens_and_texture_mistakes_name_their_line(tmp_path, text, line, message):
+    path = tmp_path / "bad.scene"
+    path.write_text(text)
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value) == f"{path}:{line}: {message}"
+
+
+def test_image_mistakes_name_the_file_and_the_line(tmp_path):
+    path = tmp_path / "s.scene"
+    (tmp_path / "not_an_image.png").write_text("hello\n")
+    (tmp_path / "huge.png").write_bytes(  # a header only: 9000 x 2 texels
+        texture_images.png_bytes(np.zeros((2, 1, 3), np.uint8))[:16]
+        + (9000).to_bytes(4, "big") + (2).to_bytes(4, "big"))
+    for written, message in [
+            ("missing.png", f"image file 'missing.png' not found (looked for "
+                            f"{tmp_path}/missing.png, {tmp_path}/generated/missing.png)"),
+            ("not_an_image.png", f"image 'not_an_image.png' ({tmp_path}/not_an_image.png) "
+                                 "is not a PNG or JPEG image"),
+            ("huge.png", f"image 'huge.png' ({tmp_path}/huge.png) is too big: 9000 x 2 "
+                         "texels: at most 8192 a side")]:
+        path.write_text(VALID + f"texture t image {written}\n")
+        with pytest.raises(scene_io.SceneError) as error:
+            scene_io.load_scene(path, [tmp_path / "generated"])
+        assert str(error.value) == f"{path}:4: {message}"
