@@ -1,5 +1,6 @@
 # Meshes made at build time into ${COURSE_GENERATED_ASSET_DIR}/meshes (never committed):
-# Newell teapots tessellated by python_prototypes/teapot.py from the patch file.
+# Newell teapots tessellated by python_prototypes/teapot.py from the patch file; and
+# images into ${COURSE_GENERATED_ASSET_DIR}/textures by python_prototypes/texture_images.py.
 #   course_assets            built by default: the meshes the chapters, book and tests use
 #   course_benchmark_assets  big teapots (100k, 1M triangles), only when asked for:
 #                            cmake --build build --target course_benchmark_assets
@@ -44,6 +45,8 @@ set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_552 3)
 course_teapot(teapot_552_no_normals 3 --no-normals)
 course_teapot(teapot_6320 10)
+# The same, with each patch's (u, v) as vt: chapter 17's textured teapot.
+course_teapot(teapot_6320_uv 10 --uv)
 
 # The gems of chapter 11's cornell_gems.scene: python_prototypes/gems.py writes each one
 # under a temporary name and renames it, so a stopped build leaves no half mesh.
@@ -60,7 +63,22 @@ add_custom_command(
   DEPENDS "${_course_gems_script}"
   COMMENT "Cutting the gems: meshes/gem_*.obj"
   VERBATIM)
-add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files})
+
+# Chapter 17's images (test_pattern.png, uv_grid.png), written the same way.
+set(_course_texture_script "${CMAKE_SOURCE_DIR}/python_prototypes/texture_images.py")
+set(_course_texture_files "")
+foreach(image test_pattern uv_grid)
+  list(APPEND _course_texture_files "${COURSE_GENERATED_ASSET_DIR}/textures/${image}.png")
+endforeach()
+add_custom_command(
+  OUTPUT ${_course_texture_files}
+  COMMAND ${Python3_EXECUTABLE} "${_course_texture_script}"
+          --out "${COURSE_GENERATED_ASSET_DIR}/textures"
+  DEPENDS "${_course_texture_script}"
+  COMMENT "Drawing the textures: textures/*.png"
+  VERBATIM)
+add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files}
+                  ${_course_texture_files})
 
 set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_102080 40)

@@ -3,10 +3,13 @@
 The teapot is 32 bicubic Bezier patches. We evaluate each patch on an (N+1) x (N+1) grid
 of (u, v) parameters, take positions and analytic normals there, weld the vertices that
 neighbouring patches share, drop the zero-area triangles of the degenerate patches, and
-write `v`, `vn` and `f` lines.
+write `v`, `vn` and `f` lines. With --uv, also `vt` lines: each patch's own (u, v), so
+every patch shows a whole texture, [0, 1]^2 (textures.py); a vertex that two patches
+share keeps one position and normal but has a `vt` in each.
 
     python python_prototypes/teapot.py --segments 3 --out teapot_n3.obj
     python python_prototypes/teapot.py --triangles 1000000 --out teapot_1m.obj
+    python python_prototypes/teapot.py --segments 10 --uv --out teapot_6320_uv.obj
 
 Each patch gives 2 * N * N triangles, less N for each of the 8 patches with a squeezed
 edge. So N = 3 gives 552 triangles, about 500 (the classic flat-versus-smooth shading
@@ -173,20 +176,28 @@ def weld_vertices(positions, normals):
     return welded_positions, normalize_rows(normal_sums), old_to_new
 
 
-def drop_degenerate_triangles(triangles, positions):
-    """Remove triangles that repeat a vertex or have (numerically) zero area."""
+def proper_triangles(triangles, positions):
+    """True for the triangles that neither repeat a vertex nor have (numerically) zero
+    area."""
     repeats = ((triangles[:, 0] == triangles[:, 1]) | (triangles[:, 1] == triangles[:, 2])
                | (triangles[:, 2] == triangles[:, 0]))
     a, b, c = (positions[triangles[:, k]] for k in range(3))
     twice_area = np.linalg.norm(np.cross(b - a, c - a), axis=-1)
-    return triangles[~repeats & (twice_area > 1e-12)]
+    return ~repeats & (twice_area > 1e-12)
 
 
-def tessellate(patches, control_points, segments):
+def drop_degenerate_triangles(triangles, positions):
+    """Remove triangles that repeat a vertex or have (numerically) zero area."""
+    return triangles[proper_triangles(triangles, positions)]
+
+
+def tessellate(patches, control_points, segments, with_uv=False):
     """Tessellate all patches with segments x segments cells each.
 
     Returns (positions (V, 3) float64, unit normals (V, 3) float64,
-    triangles (T, 3) int64 zero-based, counter-clockwise seen from outside).
+    triangles (T, 3) int64 zero-based, counter-clockwise seen from outside); with_uv
+    adds (texcoords (K, 2) float64, triangle_texcoords (T, 3) int64): every patch has
+    the same (N+1)^2 grid of (u, v), so K = (N+1)^2, shared by all patches.
     """
     if segments < 1:
         raise ValueError("segments must be at least 1")
@@ -200,8 +211,14 @@ def tessellate(patches, control_points, segments):
     triangles = grid_triangles(len(patches), segments)
 
     positions, normals, old_to_new = weld_vertices(positions, normals)
-    triangles = drop_degenerate_triangles(old_to_new[triangles], positions)
-    return positions, normals, triangles
+    kept = proper_triangles(old_to_new[triangles], positions)
+    if not with_uv:
+        return positions, normals, old_to_new[triangles][kept]
+    # Grid point (patch, v step, u step) has (u, v) = (t[u step], t[v step]).
+    v_grid, u_grid = np.meshgrid(t, t, indexing="ij")
+    texcoords = np.stack([u_grid.ravel(), v_grid.ravel()], axis=1)
+    triangle_texcoords = triangles[kept] % len(texcoords)
+    return positions, normals, old_to_new[triangles][kept], texcoords, triangle_texcoords
 
 
 def expected_triangle_count(segments):
@@ -236,10 +253,19 @@ def format_rows(template, rows, chunk=200_000):
     return "".join(pieces)
 
 
-def write_obj(path, positions, normals, triangles, header_lines=()):
-    """Write an OBJ file. normals may be None; otherwise one normal per position."""
+def write_obj(path, positions, normals, triangles, header_lines=(), texcoords=None,
+              triangle_texcoords=None):
+    """Write an OBJ file. normals may be None; otherwise one normal per position.
+    texcoords (K, 2), if given, are indexed by triangle_texcoords (T, 3)."""
     one_based = triangles + 1
-    if normals is None:
+    if texcoords is not None:
+        # "f a/t/a ...": position and normal share an index, the vt has its own.
+        corners = [one_based, triangle_texcoords + 1] + ([] if normals is None
+                                                        else [one_based])
+        corner = "%d/%d/%d" if normals is not None else "%d/%d"
+        faces = format_rows("f " + " ".join([corner] * 3) + "\n",
+                            np.stack(corners, axis=-1).reshape(len(triangles), -1))
+    elif normals is None:
         faces = format_rows("f %d %d %d\n", one_based)
     else:
         # Vertex and normal share the index: "f a//a b//b c//c".
@@ -251,6 +277,8 @@ def write_obj(path, positions, normals, triangles, header_lines=()):
         obj.write(format_rows("v %.6f %.6f %.6f\n", positions))
         if normals is not None:
             obj.write(format_rows("vn %.6f %.6f %.6f\n", normals))
+        if texcoords is not None:
+            obj.write(format_rows("vt %.6f %.6f\n", texcoords))
         obj.write(faces)
 
 
@@ -266,6 +294,8 @@ def parse_args(argv):
                       help="pick the smallest N giving at least this many triangles")
     parser.add_argument("--out", required=True, type=Path, help="OBJ file to write")
     parser.add_argument("--no-normals", action="store_true", help="omit vn lines")
+    parser.add_argument("--uv", action="store_true",
+                        help="write vt lines: each patch's (u, v) over [0, 1]^2")
     parser.add_argument("--patches", type=Path, default=DEFAULT_PATCH_FILE,
                         help=f"patch file (default: {DEFAULT_PATCH_FILE})")
     return parser.parse_args(argv)
@@ -282,13 +312,15 @@ def main(argv=None):
 
     patches, control_points = load_patches(args.patches)
     started = time.perf_counter()
-    positions, normals, triangles = tessellate(patches, control_points, segments)
+    positions, normals, triangles, *uv = tessellate(patches, control_points, segments,
+                                                    with_uv=args.uv)
     tessellated = time.perf_counter()
     header = [f"Newell teapot, y-up, standing on y = 0, {segments} x {segments} cells "
-              "per patch",
-              f"generated by python_prototypes/teapot.py --segments {segments}"]
+              "per patch" + (", vt: each patch's (u, v)" if args.uv else ""),
+              f"generated by python_prototypes/teapot.py --segments {segments}"
+              + (" --uv" if args.uv else "")]
     write_obj(args.out, positions, None if args.no_normals else normals, triangles,
-              header)
+              header, *uv)
     written = time.perf_counter()
     print(f"{len(triangles)} triangles, {len(positions)} vertices, N = {segments} -> "
           f"{args.out} (tessellate {tessellated - started:.2f} s, "
