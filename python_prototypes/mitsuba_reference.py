@@ -10,13 +10,26 @@ copied here, so the two renderers cannot drift apart:
     sphere      -> `sphere` (center, radius)
     triangle    -> the triangles of one material, written to a small OBJ file
     mesh        -> `obj` with to_world = worldFromMesh (scale, rotate_y, translate)
+                   and flip_tex_coords false: Mitsuba's uv is then the file's vt
     material    -> `diffuse` with the albedo as RGB reflectance; an emitting material
                    also gets an `area` emitter with its radiance (front side only, as
-                   in our format)
+                   in our format). The other kinds: mitsuba_bsdf()
+    albedo texture T -> `diffuse` with T as its reflectance:
+      image     -> `bitmap`, filter_type bilinear, wrap_mode repeat, raw when `linear`,
+                   and to_uv (u, v) -> (u, 1 - v): Mitsuba's bitmap puts v = 0 on the
+                   image's top row, ours (and OBJ's) on its bottom row
+      checker   -> `checkerboard`, color0 / color1, to_uv a scale by S
+                   With these, Mitsuba's uv is textures.py's everywhere: a rectangle's
+                   is (a, b) along edge1 and edge2 as ours, and an OBJ's is its vt.
+                   (Mitsuba's default flip_tex_coords would turn its checkerboard
+                   upside down on meshes only.)
     camera      -> `perspective` with fov_axis "x" and fov = 2 atan(sensor / 2 focal):
                    our sensor width is horizontal whatever the image's shape, so the
                    horizontal field of view is what matches. (mitsuba.cornell_box()
                    uses fov_axis "smaller", the same thing for square images only.)
+                   With a lens of radius > 0: `thinlens` (thin_lens.py's
+                   mitsuba_thinlens_dict), aperture_radius = the lens radius,
+                   focus_distance = focus. The regions below stay the pinhole's.
     film        -> `hdrfilm` with a box filter: each sample counts for the pixel it
                    falls in, as our jittered samples do (Mitsuba's default is Gaussian)
 
@@ -105,13 +118,33 @@ def write_triangles_obj(path: Path, triangles) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def mitsuba_bsdf(material: scene_io.Material) -> dict:
+def rgb(values) -> dict:
+    return {"type": "rgb", "value": list(values)}
+
+
+def mitsuba_texture(texture: scene_io.Texture) -> dict:
+    """A scene texture in Mitsuba 3's words, looked up as textures.py does (Mitsuba
+    must be imported, a variant set: to_uv is one of its transforms)."""
+    import mitsuba as mi
+    if texture.kind == "checker":
+        return {"type": "checkerboard", "color0": rgb(texture.color0),
+                "color1": rgb(texture.color1),
+                "to_uv": mi.ScalarAffineTransform3f().scale([texture.scale] * 2)}
+    # Mitsuba's bitmap has v = 0 at the top row; ours at the bottom: v -> 1 - v.
+    flip_v = mi.ScalarAffineTransform3f(mi.ScalarMatrix3f([[1, 0, 0], [0, -1, 1],
+                                                           [0, 0, 1]]))
+    return {"type": "bitmap", "filename": str(texture.path), "filter_type": "bilinear",
+            "wrap_mode": "repeat", "raw": texture.linear, "to_uv": flip_v}
+
+
+def mitsuba_bsdf(material: scene_io.Material, textures: dict | None = None) -> dict:
     """The scene format's materials in Mitsuba 3's words (common/course/scene_file.h):
-    albedo -> diffuse; mirror -> conductor, material none, specular_reflectance;
+    albedo -> diffuse (its reflectance the texture of `textures`, the scene's, if it
+    names one); mirror -> conductor, material none, specular_reflectance;
     conductor -> conductor or roughconductor (GGX, visible normals) with eta and k;
     dielectric -> dielectric or roughdielectric, int_ior N, ext_ior 1."""
-    def rgb(values):
-        return {"type": "rgb", "value": list(values)}
+    if material.kind == "albedo" and material.texture is not None:
+        return {"type": "diffuse", "reflectance": mitsuba_texture(textures[material.texture])}
     if material.kind == "albedo":
         return {"type": "diffuse", "reflectance": rgb(material.albedo)}
     if material.kind == "mirror":
@@ -134,26 +167,33 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
     T = mi.ScalarTransform4f
     camera = scene.camera
     eye = np.asarray(camera.eye, dtype=np.float64)
+    sensor = {
+        "type": "perspective",
+        "fov_axis": "x",
+        "fov": camera.horizontal_fov_degrees(),
+        "to_world": T().look_at(origin=eye.tolist(),
+                                target=(eye + np.asarray(camera.look)).tolist(),
+                                up=list(camera.up)),
+    }
+    if camera.lens_radius > 0:
+        import thin_lens
+        sensor = thin_lens.mitsuba_thinlens_dict(camera.as_thin_lens_camera(), width,
+                                                 height, spp)
+    sensor.update({
+        "near_clip": 1e-3,
+        "far_clip": 1e4,
+        "sampler": {"type": "independent", "sample_count": spp},
+        "film": {"type": "hdrfilm", "width": width, "height": height,
+                 "rfilter": {"type": "box"}, "pixel_format": "rgb",
+                 "component_format": "float32"},
+    })
     result = {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": mitsuba_max_depth(bounces)},
-        "sensor": {
-            "type": "perspective",
-            "fov_axis": "x",
-            "fov": camera.horizontal_fov_degrees(),
-            "to_world": T().look_at(origin=eye.tolist(),
-                                    target=(eye + np.asarray(camera.look)).tolist(),
-                                    up=list(camera.up)),
-            "near_clip": 1e-3,
-            "far_clip": 1e4,
-            "sampler": {"type": "independent", "sample_count": spp},
-            "film": {"type": "hdrfilm", "width": width, "height": height,
-                     "rfilter": {"type": "box"}, "pixel_format": "rgb",
-                     "component_format": "float32"},
-        },
+        "sensor": sensor,
     }
     for name, material in scene.materials.items():
-        result[f"material_{name}"] = mitsuba_bsdf(material)
+        result[f"material_{name}"] = mitsuba_bsdf(material, scene.textures)
 
     def surface(shape_dict, material_name):
         shape_dict["bsdf"] = {"type": "ref", "id": f"material_{material_name}"}
@@ -173,7 +213,7 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
             sphere.material)
     for index, mesh in enumerate(scene.meshes):
         result[f"mesh_{index}"] = surface(
-            {"type": "obj", "filename": str(mesh.path),
+            {"type": "obj", "filename": str(mesh.path), "flip_tex_coords": False,
              "to_world": T(mesh.world_from_mesh())}, mesh.material)
     if scene.triangles:
         if work_folder is None:

@@ -19,9 +19,10 @@ grey image is repeated into R, G and B.
     checker:  (s, t) = S (u, v); colour0 where (frac(s) > 1/2) == (frac(t) > 1/2),
               else colour1 (Mitsuba's `checkerboard`, to_uv a scale by S).
 
-Mitsuba 3's own `rectangle` puts uv (0, 0) at the image's TOP-left and its `obj`
-loader flips v on reading; mitsuba_reference.py undoes both so that Mitsuba's uv is
-ours (see there).
+Mitsuba 3 is checked against this. Its `bitmap` puts v = 0 on the image's top row and
+its `obj` loader flips v on reading, so left alone it agrees for images on meshes but
+shows them upside down on its `rectangle` (uv (a, b), as ours), and its checkerboard
+upside down on meshes; mitsuba_reference.py maps the scene so that it agrees on all.
 """
 
 from __future__ import annotations
