@@ -249,6 +249,21 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("showcase", 3, [*TINY, "--scene", "showcase"], "statistical",
                   "after_due_date", sampling=PATH_SAMPLING),
     ],
+    # Chapter 17: a thin lens and textures, graded by expectation as chapter 16. What a
+    # student writes is the concentric map onto the aperture, bilinear filtering and the
+    # sRGB curve's inverse. The bokeh wall shows all three in every test: lamps far out
+    # of focus are seen as the aperture itself (a square, or a disk crowded at its
+    # centre, is another picture), the test pattern in focus shows each texel (nearest
+    # texels, an image upside down or not decoded); the chapter's scene, all of it.
+    "17": [
+        GradeTest("bokeh and an image, direct light", 4,
+                  [*TINY, "--scene", "bokeh_wall", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("bokeh and an image", 3, [*TINY, "--scene", "bokeh_wall"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("textured teapot through the lens", 3, TINY, "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
     # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);

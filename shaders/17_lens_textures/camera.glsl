@@ -20,6 +20,7 @@ const float QUARTER_TURN = 1.57079632679;  // pi / 2 (sampling.glsl's PI comes l
 // round its centre become the disk's rings, so equal areas stay equal (uniform points
 // stay uniform) and neighbours stay neighbours.
 vec2 concentricDisk(vec2 u) {
+    // BEGIN SOLUTION the square [-1, 1]^2, then its rings to the disk's rings
     vec2 ab = 2.0 * u - 1.0;
     if (ab == vec2(0.0)) return vec2(0.0);
     float radius, angle;
@@ -31,6 +32,8 @@ vec2 concentricDisk(vec2 u) {
         angle = QUARTER_TURN - 0.5 * QUARTER_TURN * (ab.x / ab.y);
     }
     return radius * vec2(cos(angle), sin(angle));
+    // STUB: return 2.0 * u - 1.0;  // a square aperture: blur in squares
+    // END SOLUTION
 }
 // --8<-- [end:concentric]
 

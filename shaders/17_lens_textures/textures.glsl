@@ -21,6 +21,7 @@ vec3 texelAt(Texture image, int x, int y) {
 // between centres, the four nearest texels are blended by how near each is. The image
 // repeats beyond [0, 1].
 vec3 bilinear(Texture image, vec2 uv) {
+    // BEGIN SOLUTION texel coordinates of uv, then the four texels round it, blended
     uv = fract(uv);  // repeat
     vec2 xy = vec2(uv.x * float(image.width), (1.0 - uv.y) * float(image.height)) - 0.5;
     vec2 corner = floor(xy);  // the texel centre up and to the left (-1 past the edge)
@@ -29,6 +30,8 @@ vec3 bilinear(Texture image, vec2 uv) {
     vec3 top = mix(texelAt(image, x, y), texelAt(image, x + 1, y), f.x);
     vec3 bottom = mix(texelAt(image, x, y + 1), texelAt(image, x + 1, y + 1), f.x);
     return mix(top, bottom, f.y);
+    // STUB: return vec3(0.5);  // grey: no image yet
+    // END SOLUTION
 }
 // --8<-- [end:bilinear]
 

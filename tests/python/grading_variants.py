@@ -486,6 +486,72 @@ CHAPTER_16 = [
 CATALOGUE["16"] = CHAPTER_16
 
 
+# ---------------------------------------------------------------- chapter 17
+
+LT = "17_lens_textures"
+CONCENTRIC = """    vec2 ab = 2.0 * u - 1.0;
+    if (ab == vec2(0.0)) return vec2(0.0);
+    float radius, angle;
+    if (abs(ab.x) > abs(ab.y)) {
+        radius = ab.x;
+        angle = 0.5 * QUARTER_TURN * (ab.y / ab.x);
+    } else {
+        radius = ab.y;
+        angle = QUARTER_TURN - 0.5 * QUARTER_TURN * (ab.x / ab.y);
+    }
+    return radius * vec2(cos(angle), sin(angle));
+"""
+BLEND = """    vec3 top = mix(texelAt(image, x, y), texelAt(image, x + 1, y), f.x);
+    vec3 bottom = mix(texelAt(image, x, y + 1), texelAt(image, x + 1, y + 1), f.x);
+    return mix(top, bottom, f.y);
+"""
+SRGB = "    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);\n"
+
+CHAPTER_17 = [
+    Variant(LT, "polar aperture samples, radius sqrt(u1) (uniform, not concentric)", True, (
+        Edit("shaders/camera.glsl", CONCENTRIC,
+             "    float angle = 4.0 * QUARTER_TURN * u.y;\n"
+             "    return sqrt(u.x) * vec2(cos(angle), sin(angle));\n"),)),
+    Variant(LT, "concentric map with the square's axes swapped", True, (
+        Edit("shaders/camera.glsl", "    vec2 ab = 2.0 * u - 1.0;\n",
+             "    vec2 ab = 2.0 * u.yx - 1.0;\n"),)),
+    Variant(LT, "bilinear blended down first, then across", True, (
+        Edit("shaders/textures.glsl", BLEND,
+             "    vec3 left = mix(texelAt(image, x, y), texelAt(image, x, y + 1), f.y);\n"
+             "    vec3 right = mix(texelAt(image, x + 1, y), texelAt(image, x + 1, y + 1), f.y);\n"
+             "    return mix(left, right, f.x);\n"),)),
+    Variant(LT, "sRGB decoded with a lookup table built once", True, (
+        Edit("chapters/textures.cpp", SRGB,
+             "    static float table[256] = {};\n"
+             "    static bool filled = false;\n"
+             "    for (int i = 0; !filled && i < 256; ++i) {\n"
+             "        float v = float(i) / 255.0f;\n"
+             "        table[i] = v <= 0.04045f ? v / 12.92f\n"
+             "                                 : std::pow((v + 0.055f) / 1.055f, 2.4f);\n"
+             "    }\n"
+             "    filled = true;\n"
+             "    (void)c;\n"
+             "    return table[encoded];\n"),)),
+
+    Variant(LT, "a square aperture", False, (
+        Edit("shaders/camera.glsl", CONCENTRIC, "    return 2.0 * u - 1.0;\n"),)),
+    Variant(LT, "polar aperture samples with the radius uniform (crowded centre)", False, (
+        Edit("shaders/camera.glsl", CONCENTRIC,
+             "    float angle = 4.0 * QUARTER_TURN * u.y;\n"
+             "    return u.x * vec2(cos(angle), sin(angle));\n"),)),
+    Variant(LT, "nearest texel instead of bilinear", False, (
+        Edit("shaders/textures.glsl", BLEND,
+             "    return texelAt(image, int(floor(xy.x + 0.5)), int(floor(xy.y + 0.5)));\n"),)),
+    Variant(LT, "the image upside down (v not turned to rows)", False, (
+        Edit("shaders/textures.glsl", "(1.0 - uv.y) * float(image.height)",
+             "uv.y * float(image.height)"),)),
+    Variant(LT, "sRGB values not decoded", False, (
+        Edit("chapters/textures.cpp", SRGB, "    return c;\n"),)),
+]
+
+CATALOGUE["17"] = CHAPTER_17
+
+
 # ---------------------------------------------------------------- appendix A1
 
 G = "A1_gl33_fragment"

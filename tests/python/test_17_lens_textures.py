@@ -360,7 +360,7 @@ def test_the_textured_teapot_within_two_percent_of_mitsuba(tmp_path):
 
 
 def test_spheres_in_and_out_of_focus_agree_with_mitsuba(tmp_path):
-    scene = TEST_SCENES / "depth_of_field.scene"
+    scene = SCENES / "depth_of_field.scene"
     reference = mitsuba_render(scene, 512)
     ours = path_trace(tmp_path, "dof", "--scene", scene, "--width", 64, "--height", 64,
                       "--spp", 256)
