@@ -19,7 +19,6 @@ struct Fresnel {
 
 // The unpolarised reflectance at cos(theta_i) = cosI (negative from inside).
 Fresnel fresnelDielectric(float cosI, float eta) {
-    // BEGIN SOLUTION Snell's law for cos(theta_t), then the two polarisations' amplitudes
     bool fromOutside = cosI >= 0.0;
     float etaIT = fromOutside ? eta : 1.0 / eta;
     float etaTI = 1.0 / etaIT;
@@ -32,18 +31,13 @@ Fresnel fresnelDielectric(float cosI, float eta) {
     float reflectance = cosIAbs == 0.0 ? 1.0 : 0.5 * (rs * rs + rp * rp);
     if (eta == 1.0) reflectance = 0.0;  // no boundary at all
     return Fresnel(reflectance, fromOutside ? -cosTAbs : cosTAbs, etaIT, etaTI);
-    // STUB: return Fresnel(0.0, -cosI, 1.0, 1.0);  // no reflection, no bending: invisible
-    // END SOLUTION
 }
 
 // Snell's law about the (micro)normal m: the part of wi along the surface shrinks by
 // etaTI and turns round; the part along m becomes cosT, on the far side.
 vec3 refractAbout(vec3 wi, vec3 m, float cosT, float etaTI) {
-    // BEGIN SOLUTION split wi into its parts along m and along the surface
     vec3 alongSurface = wi - dot(wi, m) * m;
     return cosT * m - etaTI * alongSurface;
-    // STUB: return -wi;  // straight on, unbent
-    // END SOLUTION
 }
 // --8<-- [end:fresnel]
 
