@@ -6,6 +6,7 @@ layout(std430, binding = UVS_BINDING) readonly buffer Uvs { vec2 uvs[]; };
 layout(std430, binding = TEXTURES_BINDING) readonly buffer Textures { Texture textures[]; };
 layout(std430, binding = TEXELS_BINDING) readonly buffer Texels { vec4 texels[]; };
 
+// --8<-- [start:texel]
 // Texel (x, y) of an image, x from its left edge, y from its top row, each within
 // -1 .. size: one step past either edge wraps round (repeat).
 vec3 texelAt(Texture image, int x, int y) {
@@ -14,6 +15,7 @@ vec3 texelAt(Texture image, int x, int y) {
     y = (y + height) % height;
     return texels[image.firstTexel + uint(y * width + x)].rgb;
 }
+// --8<-- [end:texel]
 
 // --8<-- [start:bilinear]
 // The image as a continuous function: texel centres sit at ((x + 0.5) / width,
@@ -45,9 +47,11 @@ vec3 checker(Texture checker, vec2 uv) {
 }
 // --8<-- [end:checker]
 
+// --8<-- [start:albedo]
 // The albedo of a Lambertian material where it was hit.
 vec3 albedoAt(Material material, vec2 uv) {
     if (material.textureIndex == NO_TEXTURE) return material.albedo;
     Texture texture = textures[material.textureIndex];
     return texture.kind == TEXTURE_IMAGE ? bilinear(texture, uv) : checker(texture, uv);
 }
+// --8<-- [end:albedo]
