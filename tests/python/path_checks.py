@@ -171,6 +171,35 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
     return relative, error, int(mask.sum()), ours, theirs, close
 
 
+def mitsuba_regions(scene_file: Path, spp: int, size: int, mesh_folders=()):
+    """Mitsuba 3's render of a scene file (size x size, depth 6, seed 0) and its regions:
+    (image (size, size, 3), {region: mask}, scene_file), what assert_regions_within_two_percent
+    compares a chapter's render with."""
+    pytest.importorskip("mitsuba")
+    import mitsuba_reference
+    import scene_io
+    scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
+    image, _ = mitsuba_reference.render_mitsuba(scene, size, size, spp, 6, seed=0)
+    return (np.asarray(image)[..., :3],
+            mitsuba_reference.region_masks(scene, size, size), scene_file)
+
+
+def assert_regions_within_two_percent(ours: np.ndarray, reference, mesh_folders=()):
+    """Every region within SIGMAS standard errors (conftest.regions_agreeing), and its
+    brightness within 2% of Mitsuba's, or SIGMAS of its standard errors where the region
+    is noisier than that (glass holds caustics: a few very bright pixels). Returns the
+    regions compared."""
+    theirs, masks, scene_file = reference
+    compared = regions_agreeing(ours, theirs, scene_file, SIGMAS, mesh_folders)
+    for region, mask in masks.items():
+        if mask.sum() < 20:
+            continue
+        relative, error = brightness_difference(ours[mask], theirs[mask])
+        print(f"{region}: {relative:+.2%} (standard error {error:.2%})")
+        assert abs(relative) < max(0.02, SIGMAS * error), (region, relative, error)
+    return compared
+
+
 def brightness_difference(ours: np.ndarray, theirs: np.ndarray):
     """Two renders' pixels of one region (N x 3): (our brightness over theirs - 1, its
     standard error), RGB averaged. The error is the spread of ours - ratio x theirs,

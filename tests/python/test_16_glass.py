@@ -264,13 +264,7 @@ def assert_lamp_dimmed(image):
 # --- Mitsuba 3 ----------------------------------------------------------------------------
 
 def mitsuba_render(scene_file, spp, size=64):
-    pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
-    scene = scene_io.load_scene(str(scene_file), [str(f) for f in MESH_FOLDERS])
-    image, _ = mitsuba_reference.render_mitsuba(scene, size, size, spp, 6, seed=0)
-    return (np.asarray(image)[..., :3],
-            mitsuba_reference.region_masks(scene, size, size), scene_file)
+    return path_checks.mitsuba_regions(scene_file, spp, size, MESH_FOLDERS)
 
 
 @pytest.fixture(scope="module")
@@ -288,20 +282,8 @@ def mitsuba_gems():
     return mitsuba_render(SCENES / "cornell_gem_glass.scene", 2048)
 
 
-def relative_differences(ours, theirs, masks) -> dict:
-    """{region: (our brightness / Mitsuba's - 1, its standard error)}, RGB averaged."""
-    return {region: path_checks.brightness_difference(ours[mask], theirs[mask])
-            for region, mask in masks.items() if mask.sum() >= 20}
 def assert_within_two_percent(ours, reference):
-    """Every region within SIGMAS standard errors (the z-test of the other chapters),
-    and within 2% of Mitsuba's brightness or SIGMAS of its standard errors where the
-    region is noisier than that (glass holds caustics: a few very bright pixels)."""
-    theirs, masks, scene_file = reference
-    compared = regions_agreeing(ours, theirs, scene_file, SIGMAS, MESH_FOLDERS)
-    for region, (relative, error) in relative_differences(ours, theirs, masks).items():
-        print(f"{region}: {relative:+.2%} (standard error {error:.2%})")
-        assert abs(relative) < max(0.02, SIGMAS * error), (region, relative, error)
-    return compared
+    return path_checks.assert_regions_within_two_percent(ours, reference, MESH_FOLDERS)
 
 
 def test_glass_spheres_agree_with_mitsuba(tmp_path, mitsuba_glass):

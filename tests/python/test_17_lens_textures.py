@@ -317,26 +317,11 @@ def test_an_image_on_a_mesh_repeats_through_its_vt(tmp_path):
 # --- Mitsuba 3 -----------------------------------------------------------------------------
 
 def mitsuba_render(scene_file, spp, size=64):
-    pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    scene = scene_io.load_scene(str(scene_file), [str(f) for f in MESH_FOLDERS])
-    image, _ = mitsuba_reference.render_mitsuba(scene, size, size, spp, 6, seed=0)
-    return (np.asarray(image)[..., :3],
-            mitsuba_reference.region_masks(scene, size, size), scene_file)
+    return path_checks.mitsuba_regions(scene_file, spp, size, MESH_FOLDERS)
 
 
 def assert_within_two_percent(ours, reference):
-    """Every region within SIGMAS standard errors, and within 2% of Mitsuba's
-    brightness or SIGMAS standard errors where the region is noisier than that."""
-    theirs, masks, scene_file = reference
-    compared = regions_agreeing(ours, theirs, scene_file, SIGMAS, MESH_FOLDERS)
-    for region, mask in masks.items():
-        if mask.sum() < 20:
-            continue
-        relative, error = path_checks.brightness_difference(ours[mask], theirs[mask])
-        print(f"{region}: {relative:+.2%} (standard error {error:.2%})")
-        assert abs(relative) < max(0.02, SIGMAS * error), (region, relative, error)
-    return compared
+    return path_checks.assert_regions_within_two_percent(ours, reference, MESH_FOLDERS)
 
 
 def test_the_chapter_scene_agrees_with_mitsuba(tmp_path):
