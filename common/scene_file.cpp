@@ -68,9 +68,9 @@ struct MaterialUse {
 class SceneParser {
 public:
     SceneParser(std::string shownPath, std::vector<std::string> meshFolders,
-                AcceptedMaterials accepted, LensAndTextures lensAndTextures)
+                AcceptedMaterials accepted, SceneExtras extras)
         : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)),
-          accepted_(accepted), lensAndTextures_(lensAndTextures) {
+          accepted_(accepted), extras_(extras) {
         scene_.path = path_;
     }
 
@@ -101,9 +101,12 @@ public:
             readTriangle(words);
         else if (keyword == "mesh")
             readMesh(words);
+        else if (keyword == "environment")
+            readEnvironment(words);
         else
             fail("unknown keyword " + inQuotes(keyword) +
-                 " (expected camera, texture, material, sphere, quad, triangle or mesh)");
+                 " (expected camera, texture, material, sphere, quad, triangle, mesh or "
+                 "environment)");
     }
 
     SceneFile finish() {
@@ -118,7 +121,10 @@ public:
                                      " is textured, and this shape has no texture "
                                      "coordinates: textures apply to quads and meshes");
         }
-        if (lensAndTextures_ == LensAndTextures::Refused) {
+        if (extras_ != SceneExtras::LensTexturesAndEnvironment && scene_.hasEnvironment())
+            failAt(scene_.environment.line,
+                   "this program has no environment light; it comes in chapter 18");
+        if (extras_ == SceneExtras::None) {
             const char* later = ": this program has a pinhole camera and no textures; "
                                 "the thin lens and textures come in chapter 17";
             if (!scene_.textures.empty())
@@ -143,7 +149,7 @@ public:
                                               "glass comes in chapter 16");
         if (cameraLine_ == 0)
             failAt(0, "no camera: a scene needs one 'camera' line");
-        if (scene_.emitterCount() == 0)
+        if (scene_.emitterCount() == 0 && !scene_.hasEnvironment())
             failAt(0, "no emitter: no shape uses a material with an emission");
         return std::move(scene_);
     }
@@ -522,6 +528,43 @@ private:
         scene_.meshes.push_back(mesh);
     }
 
+    // environment PATH [scale S] [rotate_y DEGREES]
+    void readEnvironment(const Words& words) {
+        if (scene_.hasEnvironment())
+            fail("a second environment (the first is on line " +
+                 std::to_string(scene_.environment.line) + ")");
+        if (words.empty())
+            fail("'environment' needs a PATH, then optionally scale S, rotate_y DEGREES");
+        SceneEnvironment environment;
+        environment.writtenPath = std::string(words[0]);
+        environment.path = findFile(environment.writtenPath, "environment file");
+        bool seenScale = false, seenRotation = false;
+        for (size_t i = 1; i < words.size(); i += 2) {
+            const std::string_view option = words[i];
+            bool& seen = option == "scale" ? seenScale : seenRotation;
+            if (option != "scale" && option != "rotate_y")
+                fail("unknown environment option " + inQuotes(option) +
+                     " (expected scale or rotate_y)");
+            if (seen)
+                fail(inQuotes(option) + " is given twice");
+            seen = true;
+            if (i + 1 >= words.size())
+                fail(inQuotes(option) + " needs 1 number");
+            const float value = readNumber(words[i + 1]);
+            if (option == "scale" && !(value > 0.0f))
+                fail("the environment's scale must be positive, got " +
+                     inQuotes(words[i + 1]));
+            (option == "scale" ? environment.scale : environment.rotationYDegrees) = value;
+        }
+        const std::string problem = pfmProblem(environment.path);
+        if (!problem.empty())
+            fail("environment " + inQuotes(environment.writtenPath) + " (" +
+                 environment.path + ") is " +
+                 (problem.rfind("not ", 0) == 0 ? "" : "too big: ") + problem);
+        environment.line = lineNumber_;
+        scene_.environment = environment;
+    }
+
     // The scene file's folder first, then the folders the program passed in.
     std::string findFile(const std::string& written, const char* what) const {
         const fs::path relative(written);
@@ -545,7 +588,7 @@ private:
     std::string path_;
     std::vector<std::string> meshFolders_;
     AcceptedMaterials accepted_;
-    LensAndTextures lensAndTextures_;
+    SceneExtras extras_;
     size_t lineNumber_ = 0;
     size_t cameraLine_ = 0;
     std::unordered_map<std::string, size_t> materialLines_;
@@ -560,8 +603,8 @@ private:
 // --8<-- [start:load]
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders,
-                         AcceptedMaterials accepted, LensAndTextures lensAndTextures) {
-    SceneParser parser(shownPath, meshFolders, accepted, lensAndTextures);
+                         AcceptedMaterials accepted, SceneExtras extras) {
+    SceneParser parser(shownPath, meshFolders, accepted, extras);
     forEachLine(text, shownPath, [&parser](std::string_view line, size_t lineNumber) {
         parser.readLine(line, lineNumber);
     });
@@ -569,10 +612,10 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
 }
 
 SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders,
-                        AcceptedMaterials accepted, LensAndTextures lensAndTextures) {
+                        AcceptedMaterials accepted, SceneExtras extras) {
     const std::string shownPath = absolutePath(path);
     const std::string text = readWholeFile(path, kMostBytes, "a scene file");
-    return parseSceneText(text, shownPath, meshFolders, accepted, lensAndTextures);
+    return parseSceneText(text, shownPath, meshFolders, accepted, extras);
 }
 
 const char* materialKindWord(MaterialKind kind) {
@@ -681,6 +724,10 @@ std::string formatSceneFile(const SceneFile& scene) {
         text += "mesh " + mesh.writtenPath + " " + name(mesh.material) + " scale " +
                 number(mesh.scale) + " rotate_y " + number(mesh.rotationYDegrees) +
                 " translate " + numbers(mesh.translation) + shapeName(mesh.name);
+    if (scene.hasEnvironment())
+        text += "environment " + scene.environment.writtenPath + " scale " +
+                number(scene.environment.scale) + " rotate_y " +
+                number(scene.environment.rotationYDegrees) + "\n";
     return text;
 }
 

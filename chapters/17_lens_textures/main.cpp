@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
             course::loadSceneFile(session.scenePath("lens_textures"),
                                   {COURSE_GENERATED_ASSET_DIR},
                                   course::AcceptedMaterials::All,
-                                  course::LensAndTextures::Accepted);
+                                  course::SceneExtras::LensAndTextures);
         GpuScene scene = packScene(sceneFile);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());

@@ -1,6 +1,7 @@
-// Reading PNG and JPEG images for textures, with stb_image (compiled once in
-// common/stb_image.cpp). Decoding image files is not a lesson of the course; what a
-// texture does with the values (sRGB decoding, filtering) is, in chapter 17.
+// Reading images: PNG and JPEG for textures, with stb_image (compiled once in
+// common/stb_image.cpp), and PFM radiance maps for the environment light. Decoding
+// image files is not a lesson of the course; what a texture does with the values (sRGB
+// decoding, filtering) is, in chapter 17, and what a light does with a map, in 18.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -23,5 +24,20 @@ std::string imageProblem(const std::string& path);
 // The whole image as 8-bit RGB (grey is repeated into R, G and B; alpha is dropped).
 // Throws Failure(BadInput) naming the file when it cannot be read.
 Image8 readImage8(const std::string& path);
+
+// A float image: what a PFM file holds.
+struct ImageF {
+    int width = 0, height = 0;
+    std::vector<float> rgb;  // row 0 is the TOP row (PFM files store the bottom first)
+};
+
+// Empty when `path` is a PFM image ("PF" colour or "Pf" grey) of a size we read, else
+// what is wrong with it. Reads only the header.
+std::string pfmProblem(const std::string& path);
+
+// The whole PFM image, grey repeated into R, G and B, either byte order. Throws
+// Failure(BadInput) naming the file when it cannot be read; the values are as the
+// file has them (the caller decides what a NaN or a negative value means).
+ImageF readPfm(const std::string& path);
 
 }  // namespace course

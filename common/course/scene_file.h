@@ -54,13 +54,21 @@
 //       order whatever order the options are written in. PATH (no spaces) is relative
 //       to the scene file's folder or, if not found there, to each mesh folder the
 //       program passes in (the build's generated assets); the first that exists wins.
+//   environment PATH [scale S] [rotate_y DEGREES]
+//       a latitude-longitude radiance map (PFM), infinitely far: the background and a
+//       light (chapter 18). A direction d has u = atan2(d.x, -d.z) / 2 pi, v =
+//       acos(d.y) / pi (python_prototypes/sky.py), the map's top row at v = 0; S > 0
+//       scales its radiance (default 1); the map is turned by DEGREES about y,
+//       counter-clockwise seen from above. Mitsuba 3's `envmap`. At most one; a scene
+//       with one needs no emitting shape. PATH is found as a mesh's is.
 //   A shape's optional name (same rule as a material's) labels a region of the image
 //   for comparisons: several shapes may share one name (the six faces of a box).
 //
 // The front of a quad is the side cross(E, F) points to; of a triangle, the side
 // cross(B - A, C - A) points to (corners counter-clockwise seen from the front); of a
 // sphere, the outside. An emitting surface emits from its front only. A scene needs at
-// least one emitter: a shape whose material has an emission above zero.
+// least one emitter: a shape whose material has an emission above zero, or an
+// environment.
 //
 // Any problem throws course::Failure(ExitCode::BadInput, "file:line: what is wrong"),
 // the file as an absolute path; line 0 means the file as a whole (empty, no camera).
@@ -148,9 +156,18 @@ struct SceneMesh {
     glm::mat4 worldFromMesh() const;
 };
 
+struct SceneEnvironment {
+    std::string path;         // absolute, where the file was found
+    std::string writtenPath;  // as written in the scene file
+    float scale = 1.0f;
+    float rotationYDegrees = 0.0f;
+    size_t line = 0;  // the `environment` line; 0: the scene has no environment
+};
+
 struct SceneFile {
     std::string path;  // absolute
     SceneCamera camera;
+    SceneEnvironment environment;
     std::vector<SceneTexture> textures;
     std::vector<SceneMaterial> materials;
     std::vector<SceneSphere> spheres;
@@ -160,6 +177,7 @@ struct SceneFile {
 
     // Shapes whose material emits: spheres, quads, triangles and meshes.
     size_t emitterCount() const;
+    bool hasEnvironment() const { return environment.line != 0; }
 };
 // --8<-- [end:types]
 
@@ -167,23 +185,24 @@ struct SceneFile {
 // its line, rather than a picture that silently shows it as something else. Opaque:
 // diffuse, mirror and conductor, everything light does not pass through (no glass).
 enum class AcceptedMaterials { DiffuseOnly, Opaque, All };
-// Whether a program has a thin lens and textures (chapter 17 on): a scene using them
-// in one that has not is exit code 3 at the line, as for materials.
-enum class LensAndTextures { Refused, Accepted };
+// What a program renders besides a pinhole camera, shapes and materials: a scene using
+// more than that is exit code 3 at the line, as for materials. Each includes the one
+// before: a thin lens and textures (chapter 17), then an environment (chapter 18 on).
+enum class SceneExtras { None, LensAndTextures, LensTexturesAndEnvironment };
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
 // scene file's own folder.
 SceneFile loadSceneFile(const std::string& path,
                         const std::vector<std::string>& meshFolders = {},
                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                        LensAndTextures lensAndTextures = LensAndTextures::Refused);
+                        SceneExtras extras = SceneExtras::None);
 
 // The same, from text already in memory: shownPath names it in messages and its folder
 // is where mesh paths are looked up first.
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders = {},
                          AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                         LensAndTextures lensAndTextures = LensAndTextures::Refused);
+                         SceneExtras extras = SceneExtras::None);
 
 // "albedo", "mirror", "conductor" or "dielectric": the word the format uses.
 const char* materialKindWord(MaterialKind kind);

@@ -8,6 +8,7 @@
 
 #include "course/error.h"
 #include "course/image_file.h"
+#include "course/image_read.h"
 
 namespace fs = std::filesystem;
 
@@ -59,6 +60,32 @@ TEST(ImageFile, PfmHeaderAndBottomRowFirst) {
     std::memcpy(first, bytes.data() + header.size(), sizeof first);
     EXPECT_EQ(first[2], 1.0f);  // the first pixel in the file is the bottom-left: blue
     EXPECT_EQ(first[0], 0.0f);
+    fs::remove_all(folder);
+}
+
+TEST(ImageFile, PfmReadsBackTopRowFirstInEitherByteOrder) {
+    fs::path folder = scratch();
+    course::writeImage((folder / "a.pfm").string(), twoRows());
+    EXPECT_EQ(course::pfmProblem((folder / "a.pfm").string()), "");
+    course::ImageF image = course::readPfm((folder / "a.pfm").string());
+    ASSERT_EQ(image.width, 2);
+    ASSERT_EQ(image.height, 2);
+    const std::vector<float> expected = {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
+    EXPECT_EQ(image.rgb, expected);  // red and green on top, as written
+    // Big-endian, grey: 1 x 1 holding 2.0 (0x40000000).
+    std::ofstream(folder / "b.pfm", std::ios::binary)
+        << std::string("Pf\n1 1\n1.0\n") << std::string("\x40\0\0\0", 4);
+    image = course::readPfm((folder / "b.pfm").string());
+    EXPECT_EQ(image.rgb, std::vector<float>({2, 2, 2}));
+    std::ofstream(folder / "c.pfm", std::ios::binary) << "PF\n3 3\n-1.0\n";
+    EXPECT_EQ(course::pfmProblem((folder / "c.pfm").string()),
+              "not a whole PFM image (the file ends before its last row)");
+    try {
+        course::readPfm((folder / "c.pfm").string());
+        ADD_FAILURE() << "read a truncated PFM";
+    } catch (const course::Failure& error) {
+        EXPECT_EQ(error.code(), course::ExitCode::BadInput);
+    }
     fs::remove_all(folder);
 }
 

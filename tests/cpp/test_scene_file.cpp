@@ -24,7 +24,7 @@ using course::formatSceneFile;
 using course::loadSceneFile;
 using course::parseSceneText;
 using course::AcceptedMaterials;
-using course::LensAndTextures;
+using course::SceneExtras;
 using course::MaterialKind;
 using course::SceneFile;
 using course::SceneMesh;
@@ -57,7 +57,7 @@ protected:
     std::string failure(const std::string& text,
                         const std::vector<std::string>& meshFolders = {},
                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                        LensAndTextures lens = LensAndTextures::Refused) const {
+                        SceneExtras lens = SceneExtras::None) const {
         const fs::path path = write("bad.scene", text);
         try {
             loadSceneFile(path.string(), meshFolders, accepted, lens);
@@ -312,14 +312,17 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
             std::string keyword, first, kind, imagePath;
             if (words >> keyword >> first && keyword == "mesh")
                 write("generated/" + first, "v 0 0 0\n");
+            if (keyword == "environment")
+                write("generated/" + first, "PF\n1 1\n-1.0\n" + std::string(12, '\0'));
             if (keyword == "texture" && words >> kind >> imagePath && kind == "image") {
                 fs::create_directories((generated / imagePath).parent_path());
                 course::writeImage((generated / imagePath).string(), {1, 1, {1, 1, 1, 1}});
             }
         }
         // Every kind of material: chapters 15 and 16 ship metals and glass.
-        const SceneFile scene = loadSceneFile(entry.path().string(), {generated.string()},
-                                              AcceptedMaterials::All, LensAndTextures::Accepted);
+        const SceneFile scene =
+            loadSceneFile(entry.path().string(), {generated.string()}, AcceptedMaterials::All,
+                          SceneExtras::LensTexturesAndEnvironment);
         // Every scene is lit; the grader's scene of two lights has two (chapter 12's
         // choice of light).
         EXPECT_GE(scene.emitterCount(), 1u);
@@ -328,7 +331,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
         }
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,
                                                {generated.string()}, AcceptedMaterials::All,
-                                               LensAndTextures::Accepted);
+                                               SceneExtras::LensTexturesAndEnvironment);
         expectSameScene(scene, again);
         ++count;
     }
@@ -370,7 +373,7 @@ TEST_F(SceneFileTest, EmptyFile) { EXPECT_EQ(failure(""), at(0, "empty file")); 
 TEST_F(SceneFileTest, UnknownKeyword) {
     EXPECT_EQ(failure(kValid + "cylinder 0 0 0 1 lamp\n"),
               at(4, "unknown keyword 'cylinder' (expected camera, texture, material, sphere, "
-                    "quad, triangle or mesh)"));
+                    "quad, triangle, mesh or environment)"));
 }
 
 TEST_F(SceneFileTest, WrongNumberOfFields) {
@@ -573,7 +576,7 @@ TEST_F(SceneFileTest, LensAndTexturesAreReadAndWrittenBack) {
     const std::string path = (folder_ / "x.scene").string();
     const std::vector<std::string> folders = {(folder_ / "generated").string()};
     const SceneFile scene = parseSceneText(text, path, folders, AcceptedMaterials::All,
-                                           LensAndTextures::Accepted);
+                                           SceneExtras::LensAndTextures);
     EXPECT_EQ(scene.camera.lensRadius, 0.01f);
     EXPECT_EQ(scene.camera.focusDistance, 2.5f);
     ASSERT_EQ(scene.textures.size(), 4u);
@@ -590,14 +593,14 @@ TEST_F(SceneFileTest, LensAndTexturesAreReadAndWrittenBack) {
     EXPECT_EQ(scene.materials[1].emission, glm::vec3(1.0f));
     const std::string formatted = formatSceneFile(scene);
     const SceneFile again = parseSceneText(formatted, path, folders, AcceptedMaterials::All,
-                                           LensAndTextures::Accepted);
+                                           SceneExtras::LensAndTextures);
     expectSameScene(scene, again);
     EXPECT_EQ(formatSceneFile(again), formatted);
 }
 
 TEST_F(SceneFileTest, LensAndTextureMistakes) {
     auto lens = [this](const std::string& text) {
-        return failure(text, {}, AcceptedMaterials::All, LensAndTextures::Accepted);
+        return failure(text, {}, AcceptedMaterials::All, SceneExtras::LensAndTextures);
     };
     const std::string pinhole = kCamera.substr(0, kCamera.size() - 1);
     EXPECT_EQ(lens(pinhole + " lens -0.1 focus 2\n"),
@@ -642,6 +645,65 @@ TEST_F(SceneFileTest, ProgramsWithoutLensOrTexturesSaySo) {
     // A lens of radius 0 is a pinhole: every program renders it.
     const std::string pinhole = kCamera.substr(0, kCamera.size() - 1) + " lens 0 focus 3\n";
     EXPECT_NO_THROW(parseSceneText(pinhole + kValid.substr(kCamera.size()), "x"));
+}
+
+// ---------------------------------------------------------------------------------------
+// The environment (chapter 18 on)
+// ---------------------------------------------------------------------------------------
+
+// A 2 x 1 PFM: one black texel, one grey.
+const std::string kTinyPfm = std::string("PF\n2 1\n-1.0\n") + std::string(12, '\0') +
+                             std::string("\0\0\0\x3f\0\0\0\x3f\0\0\0\x3f", 12);
+
+TEST_F(SceneFileTest, EnvironmentIsReadAndWrittenBack) {
+    write("sky.pfm", kTinyPfm);
+    // No emitting shape: the environment lights the scene.
+    const std::string text = kCamera + "material grey albedo 0.5 0.5 0.5\n"
+                                       "sphere 0 0 0 1 grey\n"
+                                       "environment sky.pfm rotate_y 30 scale 2.5\n";
+    const std::string path = (folder_ / "x.scene").string();
+    const auto all = SceneExtras::LensTexturesAndEnvironment;
+    const SceneFile scene = parseSceneText(text, path, {}, AcceptedMaterials::All, all);
+    ASSERT_TRUE(scene.hasEnvironment());
+    EXPECT_EQ(scene.environment.path, (folder_ / "sky.pfm").string());
+    EXPECT_EQ(scene.environment.scale, 2.5f);
+    EXPECT_EQ(scene.environment.rotationYDegrees, 30.0f);
+    EXPECT_EQ(scene.environment.line, 4u);
+    const SceneFile again =
+        parseSceneText(formatSceneFile(scene), path, {}, AcceptedMaterials::All, all);
+    EXPECT_EQ(again.environment.scale, 2.5f);
+    EXPECT_EQ(again.environment.rotationYDegrees, 30.0f);
+    EXPECT_EQ(again.environment.path, scene.environment.path);
+}
+
+TEST_F(SceneFileTest, EnvironmentMistakes) {
+    write("sky.pfm", kTinyPfm);
+    write("photo.pfm", "P6\n2 1\n255\n");
+    write("short.pfm", "PF\n4 4\n-1.0\n" + std::string(12, '\0'));
+    auto env = [this](const std::string& line) {
+        return failure(kValid + line + "\n", {}, AcceptedMaterials::All,
+                       SceneExtras::LensTexturesAndEnvironment);
+    };
+    EXPECT_EQ(env("environment sky.pfm\nenvironment sky.pfm"),
+              at(5, "a second environment (the first is on line 4)"));
+    EXPECT_EQ(env("environment sky.pfm scale 0"),
+              at(4, "the environment's scale must be positive, got '0'"));
+    EXPECT_EQ(env("environment sky.pfm scale 1 scale 2"), at(4, "'scale' is given twice"));
+    EXPECT_EQ(env("environment sky.pfm rotate_x 3"),
+              at(4, "unknown environment option 'rotate_x' (expected scale or rotate_y)"));
+    EXPECT_EQ(env("environment sky.pfm rotate_y"), at(4, "'rotate_y' needs 1 number"));
+    EXPECT_EQ(env("environment nowhere.pfm"),
+              at(4, "environment file 'nowhere.pfm' not found (looked for " +
+                        (folder_ / "nowhere.pfm").string() + ")"));
+    EXPECT_EQ(env("environment photo.pfm"),
+              at(4, "environment 'photo.pfm' (" + (folder_ / "photo.pfm").string() +
+                        ") is not a PFM image (it does not start with PF or Pf)"));
+    EXPECT_EQ(env("environment short.pfm"),
+              at(4, "environment 'short.pfm' (" + (folder_ / "short.pfm").string() +
+                        ") is not a whole PFM image (the file ends before its last row)"));
+    EXPECT_EQ(failure(kValid + "environment sky.pfm\n", {}, AcceptedMaterials::All,
+                      SceneExtras::LensAndTextures),
+              at(4, "this program has no environment light; it comes in chapter 18"));
 }
 
 TEST_F(SceneFileTest, NoEmitter) {

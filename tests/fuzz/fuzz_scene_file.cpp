@@ -9,14 +9,13 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string_view text(reinterpret_cast<const char*>(data), size);
     try {
-        course::SceneFile scene = course::parseSceneText(text, "/fuzz/input.scene", {},
-                                                         course::AcceptedMaterials::All,
-                                                         course::LensAndTextures::Accepted);
+        const auto everything = course::SceneExtras::LensTexturesAndEnvironment;
+        course::SceneFile scene = course::parseSceneText(
+            text, "/fuzz/input.scene", {}, course::AcceptedMaterials::All, everything);
         std::string written = course::formatSceneFile(scene);
         try {
             course::parseSceneText(written, "/fuzz/written.scene", {},
-                                   course::AcceptedMaterials::All,
-                                   course::LensAndTextures::Accepted);
+                                   course::AcceptedMaterials::All, everything);
         } catch (const course::Failure&) {
             __builtin_trap();  // what the writer writes, the reader must read
         }
