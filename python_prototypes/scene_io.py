@@ -14,10 +14,13 @@ common/course/scene_file.h and in assets/scenes/README.md:
     quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
     triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
     mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
+    environment PATH [scale S] [rotate_y DEGREES]
 
 load_scene(path, mesh_folders) -> Scene. Any problem raises SceneError("file:line: ...");
 line 0 means the file as a whole. Image paths are found as mesh paths are; what a
-texture does with its values is textures.py's (the numpy reference).
+texture does with its values is textures.py's (the numpy reference). So are
+environment maps (PFM only, at most one line), which light the scene from infinitely
+far: a scene with one needs no emitter; environment_map.py looks its radiance up.
 """
 
 from __future__ import annotations
@@ -33,6 +36,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import camera_rays  # noqa: E402
+import environment_map  # noqa: E402
+import pfm  # noqa: E402
 import textures  # noqa: E402
 
 CONTROL_BYTES = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")  # all but \t \n \r
@@ -164,6 +169,17 @@ class Mesh:
 
 
 @dataclass
+class Environment:
+    """environment PATH [scale S] [rotate_y DEGREES]: a latitude-longitude radiance map
+    (PFM) lighting the scene from infinitely far; environment_map.py reads it."""
+    path: Path                      # absolute: where the file was found
+    written_path: str               # as the scene file writes it
+    scale: float = 1.0              # multiplies the radiance
+    rotate_y_degrees: float = 0.0   # turns the map about y, counter-clockwise from above
+    line: int = 0
+
+
+@dataclass
 class Scene:
     path: Path
     camera: SceneCamera
@@ -173,6 +189,7 @@ class Scene:
     quads: list = field(default_factory=list)
     triangles: list = field(default_factory=list)
     meshes: list = field(default_factory=list)
+    environment: Environment | None = None  # the `environment` line, if there is one
 
     def shapes(self):
         """(kind, index, shape) for every shape: spheres, quads, triangles, meshes."""
@@ -445,6 +462,47 @@ def read_mesh(words, scene_path, mesh_folders, line) -> Mesh:
     return mesh
 
 
+def read_environment(words, scene_path, mesh_folders, line) -> Environment:
+    """environment PATH [scale S] [rotate_y DEGREES]: the file is found as a mesh's is,
+    then the options are read, then the whole map is read and checked."""
+    if not words:
+        raise SceneError("'environment' needs a PATH, then optionally scale S, "
+                         "rotate_y DEGREES")
+    environment = Environment(find_file(words[0], scene_path, mesh_folders,
+                                        "environment file"), words[0], line=line)
+    seen = set()
+    i = 1
+    while i < len(words):
+        option = words[i]
+        if option not in ("scale", "rotate_y"):
+            raise SceneError(f"unknown environment option '{option}' "
+                             "(expected scale or rotate_y)")
+        if option in seen:
+            raise SceneError(f"'{option}' is given twice")
+        seen.add(option)
+        if i + 1 >= len(words):
+            raise SceneError(f"'{option}' needs 1 number")
+        if option == "scale":
+            environment.scale = number(words[i + 1])
+            if not environment.scale > 0:
+                raise SceneError("the environment's scale must be positive, got "
+                                 f"'{words[i + 1]}'")
+        else:
+            environment.rotate_y_degrees = number(words[i + 1])
+        i += 2
+    try:
+        image = environment_map.read_map(environment.path)
+    except pfm.PfmError as error:
+        raise SceneError(f"environment '{words[0]}' ({environment.path}) is not a PFM "
+                         f"image: {error}") from None
+    bad = environment_map.first_bad_texel(image)
+    if bad is not None:
+        row, column, what = bad
+        raise SceneError(f"environment '{words[0]}': texel (row {row}, column {column}) "
+                         f"is {what}: a radiance map holds finite values >= 0")
+    return environment
+
+
 def parse_scene(text: str, path, mesh_folders=()) -> Scene:
     """Parses scene text; `path` names it in messages and anchors relative mesh paths."""
     path = absolute(path)
@@ -514,9 +572,15 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 mesh = read_mesh(words, path, mesh_folders, line_number)
                 uses.append((line_number, mesh.material, "mesh"))
                 scene.meshes.append(mesh)
+            elif keyword == "environment":
+                if scene.environment is not None:
+                    raise SceneError("a second environment (the first is on line "
+                                     f"{scene.environment.line})")
+                scene.environment = read_environment(words, path, mesh_folders,
+                                                     line_number)
             else:
                 raise SceneError(f"unknown keyword '{keyword}' (expected camera, texture, "
-                                 "material, sphere, quad, triangle or mesh)")
+                                 "material, sphere, quad, triangle, mesh or environment)")
         except SceneError as error:
             fail(line_number, str(error))
 
@@ -531,7 +595,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
         fail(0, "no camera: a scene needs one 'camera' line")
     scene.camera = camera
     scene.materials = materials
-    if not scene.emitters():
+    if not scene.emitters() and scene.environment is None:  # an environment is a light
         fail(0, "no emitter: no shape uses a material with an emission")
     return scene
 
@@ -551,5 +615,6 @@ def load_scene(path, mesh_folders=()) -> Scene:
 
 
 def default_mesh_folders():
-    """The build's generated assets (cmake/Assets.cmake): meshes/ and textures/."""
+    """The build's generated assets (cmake/Assets.cmake): meshes/, textures/ and
+    environments/."""
     return [Path(__file__).resolve().parents[1] / "build" / "assets"]

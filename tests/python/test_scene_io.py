@@ -1,6 +1,6 @@
 """Chapter 11's scene files on the Python side: the reader (python_prototypes/scene_io.py)
 and the gem meshes (python_prototypes/gems.py) that cornell_gems.scene places; chapter
-17's words for the thin lens and textures."""
+17's words for the thin lens and textures; chapter 18's environment."""
 
 from pathlib import Path
 
@@ -9,6 +9,7 @@ import pytest
 
 import gems
 import obj_io
+import pfm
 import scene_io
 import texture_images
 
@@ -102,7 +103,7 @@ MISTAKES = [
     ("", 0, "empty file"),
     (VALID + "cylinder 0 0 0 1 lamp\n", 4,
      "unknown keyword 'cylinder' (expected camera, texture, material, sphere, quad, "
-     "triangle or mesh)"),
+     "triangle, mesh or environment)"),
     (VALID + "sphere 0 0 0 lamp\n", 4,
      "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally name NAME; got 4"),
     (VALID + "material m albedo 1 1\n", 4, "albedo needs three numbers R G B"),
@@ -355,3 +356,162 @@ def test_image_mistakes_name_the_file_and_the_line(tmp_path):
         with pytest.raises(scene_io.SceneError) as error:
             scene_io.load_scene(path, [tmp_path / "generated"])
         assert str(error.value) == f"{path}:4: {message}"
+
+
+# ---------------------------------------------------------------------------------------
+# Chapter 18: the environment
+# ---------------------------------------------------------------------------------------
+
+LIT_BY_SKY = CAMERA + "material white albedo 0.8 0.8 0.8\nsphere 0 0 0 1 white\n"
+
+
+def write_map(path, image):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    pfm.write_pfm(path, np.asarray(image, dtype=np.float32))
+    return path
+
+
+@pytest.fixture
+def generated(tmp_path):
+    """A generated-assets folder as the build makes it: environments/spots.pfm."""
+    folder = tmp_path / "generated"
+    write_map(folder / "environments" / "spots.pfm", np.full((4, 8, 3), 0.5))
+    return folder
+
+
+def test_reads_the_environment(tmp_path, generated):
+    """Found as meshes and images are (beside the scene, then in the generated assets);
+    options in any order; a scene lit by its environment alone needs no emitter."""
+    path = tmp_path / "s.scene"
+    path.write_text(LIT_BY_SKY + "environment environments/spots.pfm rotate_y -30 "
+                    "scale 2.5  # the sky\n")
+    scene = scene_io.load_scene(path, [generated])
+    environment = scene.environment
+    assert environment.path == generated / "environments" / "spots.pfm"
+    assert environment.written_path == "environments/spots.pfm"
+    assert (environment.scale, environment.rotate_y_degrees, environment.line) == \
+        (2.5, -30.0, 4)
+    assert not scene.emitters()
+    path.write_text(VALID + "environment environments/spots.pfm\n")
+    environment = scene_io.load_scene(path, [generated]).environment
+    assert (environment.scale, environment.rotate_y_degrees) == (1.0, 0.0)
+    path.write_text(VALID)
+    assert scene_io.load_scene(path, [generated]).environment is None
+    # Beside the scene first, as a mesh.
+    write_map(tmp_path / "environments" / "spots.pfm", np.zeros((2, 4, 3)))
+    path.write_text(VALID + "environment environments/spots.pfm\n")
+    assert scene_io.load_scene(path, [generated]).environment.path == \
+        tmp_path / "environments" / "spots.pfm"
+
+
+def test_greyscale_and_big_endian_maps_are_read(tmp_path):
+    values = np.arange(8, dtype=np.float32).reshape(2, 4)
+    (tmp_path / "grey.pfm").write_bytes(b"Pf\n4 2\n-1.0\n" + values.astype("<f4").tobytes())
+    (tmp_path / "big.pfm").write_bytes(b"PF\n4 2\n1.0\n"
+                                       + np.repeat(values, 3).astype(">f4").tobytes())
+    path = tmp_path / "s.scene"
+    for name in ("grey.pfm", "big.pfm"):
+        path.write_text(LIT_BY_SKY + f"environment {name}\n")
+        assert scene_io.load_scene(path).environment.written_path == name
+
+
+# The same mistakes as the C++ reader's, with the same messages.
+ENVIRONMENT_MISTAKES = [
+    (LIT_BY_SKY + "environment\n", 4,
+     "'environment' needs a PATH, then optionally scale S, rotate_y DEGREES"),
+    (LIT_BY_SKY + "environment environments/spots.pfm tilt 3\n", 4,
+     "unknown environment option 'tilt' (expected scale or rotate_y)"),
+    (LIT_BY_SKY + "environment environments/spots.pfm scale 2 rotate_y 5 scale 3\n", 4,
+     "'scale' is given twice"),
+    (LIT_BY_SKY + "environment environments/spots.pfm rotate_y\n", 4,
+     "'rotate_y' needs 1 number"),
+    (LIT_BY_SKY + "environment environments/spots.pfm scale 0\n", 4,
+     "the environment's scale must be positive, got '0'"),
+    (LIT_BY_SKY + "environment environments/spots.pfm scale -1\n", 4,
+     "the environment's scale must be positive, got '-1'"),
+    (LIT_BY_SKY + "environment environments/spots.pfm rotate_y inf\n", 4,
+     "'inf' is not a finite number"),
+    (LIT_BY_SKY + "environment environments/spots.pfm\n\n"
+     "environment environments/spots.pfm scale 2\n", 6,
+     "a second environment (the first is on line 4)"),
+    # Without an environment, the message is the one scenes have always had.
+    (LIT_BY_SKY, 0, "no emitter: no shape uses a material with an emission"),
+]
+
+
+@pytest.mark.parametrize("text, line, message", ENVIRONMENT_MISTAKES,
+                         ids=[message[:40] for _, _, message in ENVIRONMENT_MISTAKES])
+def test_environment_mistakes_name_their_line(tmp_path, generated, text, line, message):
+    path = tmp_path / "bad.scene"
+    path.write_text(text)
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path, [generated])
+    assert str(error.value) == f"{path}:{line}: {message}"
+
+
+def test_missing_environment_lists_where_it_looked(tmp_path, generated):
+    path = tmp_path / "s.scene"
+    path.write_text(LIT_BY_SKY + "environment environments/sky.pfm\n")
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path, [generated])
+    assert str(error.value) == (
+        f"{path}:4: environment file 'environments/sky.pfm' not found (looked for "
+        f"{tmp_path}/environments/sky.pfm, {generated}/environments/sky.pfm)")
+
+
+GOOD_HEADER = b"PF\n2 1\n-1.0\n"
+NOT_PFM = [
+    (b"P6\n2 1\n255\n" + bytes(6), "it does not start with 'PF' (RGB) or 'Pf' (greyscale)"),
+    (b"#?RADIANCE\n", "it does not start with 'PF' (RGB) or 'Pf' (greyscale)"),
+    (b"", "it does not start with 'PF' (RGB) or 'Pf' (greyscale)"),
+    (b"PF\n2 1\n", "its header (PF or Pf, the width, the height, the scale) is cut short"),
+    (b"PF\n2 0\n-1.0\n", "its size '2' x '0' is not two whole numbers above 0"),
+    (b"PF\n2.5 1\n-1.0\n" + bytes(24),
+     "its size '2.5' x '1' is not two whole numbers above 0"),
+    (b"PF\n2 1\n0\n" + bytes(24),
+     "its scale '0' is not a number other than 0 (its sign gives the byte order)"),
+    (b"PF\n2 1\nnan\n" + bytes(24),
+     "its scale 'nan' is not a number other than 0 (its sign gives the byte order)"),
+    (GOOD_HEADER + bytes(20),
+     "2 x 1 pixels of 3 floats need 24 bytes after the header, and it has 20"),
+    (GOOD_HEADER + bytes(28),
+     "2 x 1 pixels of 3 floats need 24 bytes after the header, and it has 28"),
+    (b"Pf\n2 1\n-1.0\n" + bytes(24),
+     "2 x 1 pixels of 1 float need 8 bytes after the header, and it has 24"),
+]
+
+
+@pytest.mark.parametrize("data, reason", NOT_PFM, ids=[r[:30] for _, r in NOT_PFM])
+def test_a_map_that_is_not_a_pfm_is_refused_with_the_reason(tmp_path, data, reason):
+    (tmp_path / "bad.pfm").write_bytes(data)
+    path = tmp_path / "s.scene"
+    path.write_text(LIT_BY_SKY + "environment bad.pfm scale 2\n")
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value) == (f"{path}:4: environment 'bad.pfm' ({tmp_path}/bad.pfm) "
+                                f"is not a PFM image: {reason}")
+
+
+@pytest.mark.parametrize("value, what", [(np.nan, "nan"), (np.inf, "inf"),
+                                         (-np.inf, "inf"), (-0.5, "negative")])
+def test_bad_texels_are_refused_counting_rows_from_the_top(tmp_path, value, what):
+    """The file stores the bottom row first: row 1 of 4 from the top is the file's
+    third row. Earlier texels are fine, later ones bad too: the first is named."""
+    image = np.ones((4, 6, 3), dtype=np.float32)
+    image[1, 4, 2] = value
+    image[2, 0, 0] = -1.0  # later, reading from the top
+    image[3, :, 1] = np.nan
+    write_map(tmp_path / "bad.pfm", image)
+    path = tmp_path / "s.scene"
+    path.write_text(LIT_BY_SKY + "environment bad.pfm\n")
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value) == (f"{path}:4: environment 'bad.pfm': texel (row 1, column "
+                                f"4) is {what}: a radiance map holds finite values >= 0")
+
+
+def test_negative_zero_is_a_radiance_of_zero(tmp_path):
+    write_map(tmp_path / "zero.pfm", np.full((2, 4, 3), -0.0))
+    path = tmp_path / "s.scene"
+    path.write_text(LIT_BY_SKY + "environment zero.pfm\n")
+    assert scene_io.load_scene(path).environment is not None

@@ -1,0 +1,95 @@
+"""The scene's environment light in numpy: its radiance map read strictly, and the
+radiance it sends along any direction (the reference the renderer is checked against).
+
+    environment PATH [scale S] [rotate_y DEGREES]
+
+The map is a latitude-longitude PFM in sky.py's orientation (Mitsuba 3's envmap at
+identity to_world): u = atan2(x, -z) / 2π wrapped into [0, 1), v = acos(y) / π, and
+pixel (row r from the image's top, column c) is the constant radiance of the patch
+u in [c, c+1]/W, v in [r, r+1]/H: the nearest pixel, no filtering.
+
+rotate_y DEGREES turns the map about +y counter-clockwise seen from above, as a mesh's
+rotate_y turns a mesh: a world direction d is looked up at mapFromWorld d, the turn by
+-DEGREES. With 90, what the file shows along +x is seen along -z. scale S multiplies
+the radiance. Mitsuba's envmap with to_world = rotate([0, 1, 0], DEGREES) and scale S
+is the same light (tests/python/test_environment_light.py probes it).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import pfm  # noqa: E402
+import sky  # noqa: E402
+
+
+def map_from_world(rotate_y_degrees: float) -> np.ndarray:
+    """3x3: a world direction into the map's frame, the turn by -DEGREES about y (the
+    inverse of a mesh's worldFromMesh rotation by +DEGREES)."""
+    angle = math.radians(rotate_y_degrees)
+    c, s = math.cos(angle), math.sin(angle)
+    world_from_map = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    return world_from_map.T
+
+
+def first_bad_texel(image):
+    """(row, column, what) of the first texel, reading from the top row, with a value
+    that is NaN, infinite or negative (what: 'nan', 'inf' or 'negative', in that order
+    of precedence within a texel); None if every value is finite and >= 0."""
+    image = np.asarray(image)
+    bad = ~np.isfinite(image) | (image < 0)
+    if not bad.any():
+        return None
+    row, column = np.unravel_index(np.argmax(bad.any(axis=-1)), image.shape[:2])
+    texel = image[row, column]
+    what = "nan" if np.isnan(texel).any() else "inf" if np.isinf(texel).any() else "negative"
+    return int(row), int(column), what
+
+
+def decode_map(data: bytes) -> np.ndarray:
+    """The radiance map in a PFM's bytes: float32 (H, W, 3), row 0 at the top (greyscale
+    repeated into RGB). Raises pfm.PfmError if the bytes are not a PFM; the values
+    are not checked here (first_bad_texel does)."""
+    return pfm.decode_pfm(data)
+
+
+@functools.lru_cache(maxsize=8)
+def _cached_map(path: str, modified_ns: int, size: int) -> np.ndarray:
+    image = decode_map(Path(path).read_bytes())
+    image.setflags(write=False)  # shared by every caller: nobody may change it
+    return image
+
+
+def read_map(path) -> np.ndarray:
+    """decode_map of the file, read once while the file stays unchanged."""
+    status = os.stat(path)
+    return _cached_map(str(path), status.st_mtime_ns, status.st_size)
+
+
+# --8<-- [start:lookup]
+def lookup_nearest(image, directions, scale=1.0, rotate_y_degrees=0.0) -> np.ndarray:
+    """RGB (..., 3) of the map along world directions (..., 3), any length but 0:
+    turned into the map's frame, then the pixel whose (u, v) patch holds them, times
+    scale."""
+    directions = np.asarray(directions, dtype=np.float64)
+    directions = directions / np.linalg.norm(directions, axis=-1, keepdims=True)
+    in_map = directions @ map_from_world(rotate_y_degrees).T
+    height, width = image.shape[:2]
+    row, column = sky.pixel_of_direction(in_map, width, height)
+    return np.asarray(image, dtype=np.float64)[row, column] * scale
+# --8<-- [end:lookup]
+
+
+def environment_radiance(environment, directions) -> np.ndarray:
+    """The radiance (..., 3) that a scene's environment (scene_io.Environment: path,
+    scale, rotate_y_degrees) sends towards the scene along each world direction
+    (..., 3): what a ray travelling along d sees when it leaves the scene."""
+    return lookup_nearest(read_map(environment.path), directions, environment.scale,
+                          environment.rotate_y_degrees)
