@@ -1,6 +1,7 @@
 # Meshes made at build time into ${COURSE_GENERATED_ASSET_DIR}/meshes (never committed):
-# Newell teapots tessellated by python_prototypes/teapot.py from the patch file; and
-# images into ${COURSE_GENERATED_ASSET_DIR}/textures by python_prototypes/texture_images.py.
+# Newell teapots tessellated by python_prototypes/teapot.py from the patch file; images
+# into ${COURSE_GENERATED_ASSET_DIR}/textures by python_prototypes/texture_images.py; and
+# lat-long radiance maps into .../environments by python_prototypes/sky.py.
 #   course_assets            built by default: the meshes the chapters, book and tests use
 #   course_benchmark_assets  big teapots (100k, 1M triangles), only when asked for:
 #                            cmake --build build --target course_benchmark_assets
@@ -77,8 +78,34 @@ add_custom_command(
   DEPENDS "${_course_texture_script}"
   COMMENT "Drawing the textures: textures/*.png"
   VERBATIM)
+
+# Chapter 18's environment maps, by python_prototypes/sky.py with numpy alone (it writes
+# each PFM under a temporary name and renames it):
+#   environments/sky.pfm    512 x 256: its default Preetham sky with a sun (elevation
+#                           30 degrees, azimuth 120, turbidity 3) over a grey ground
+#   environments/spots.pfm  64 x 32: a dim background and three bright disks (sky.SPOTS)
+set(_course_sky_script "${CMAKE_SOURCE_DIR}/python_prototypes/sky.py")
+set(_course_environment_dir "${COURSE_GENERATED_ASSET_DIR}/environments")
+set(_course_environment_files "")
+foreach(map sky spots)
+  set(_course_map "${_course_environment_dir}/${map}.pfm")
+  set(_course_map_options "")
+  if(map STREQUAL "spots")
+    set(_course_map_options --spots)
+  endif()
+  add_custom_command(
+    OUTPUT "${_course_map}"
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${_course_environment_dir}"
+    COMMAND ${Python3_EXECUTABLE} "${_course_sky_script}" ${_course_map_options}
+            --out "${_course_map}"
+    DEPENDS "${_course_sky_script}" "${CMAKE_SOURCE_DIR}/python_prototypes/pfm.py"
+    COMMENT "Making the environment map: environments/${map}.pfm"
+    VERBATIM)
+  list(APPEND _course_environment_files "${_course_map}")
+endforeach()
+
 add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files}
-                  ${_course_texture_files})
+                  ${_course_texture_files} ${_course_environment_files})
 
 set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_102080 40)
