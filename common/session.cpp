@@ -213,8 +213,25 @@ private:
 
 }  // namespace
 
+void Session::setDisplay(const ImageBuffer& display, std::function<void()> toDisplay) {
+    display_ = &display;
+    toDisplay_ = std::move(toDisplay);
+}
+
 void Session::finish(const ImageBuffer& image, const std::function<void()>& render,
                      const std::function<void(int frame)>& eachFrame) {
+    // The image as the eye sees it: the display's, made fresh, or the image itself.
+    auto shown = [&]() -> const ImageBuffer& {
+        if (!display_) return image;
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        toDisplay_();
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return *display_;
+    };
+    auto forFile = [&](const std::string& path) -> const ImageBuffer& {
+        const bool png = path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0;
+        return png ? shown() : image;
+    };
     if (GLFWwindow* window = context_->window()) {
         ImageDisplay display;
         CloseOnSignal closeOnSignal;
@@ -245,13 +262,13 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
             if (screenshotKeyDown && !screenshotKeyWasDown) {
                 std::string path = chapter_.name + "_screenshot_" +
                                    std::to_string(++screenshots) + ".png";
-                writeImage(path, downloadImage(image));
+                writeImage(path, downloadImage(shown()));
                 std::printf("saved %s\n", fs::absolute(path).c_str());
             }
             screenshotKeyWasDown = screenshotKeyDown;
             int width = 0, height = 0;
             glfwGetFramebufferSize(window, &width, &height);
-            if (width > 0 && height > 0) display.draw(image, width, height);
+            if (width > 0 && height > 0) display.draw(shown(), width, height);
             glfwSwapBuffers(window);
             if (reportFrame) logInfo("frame " + std::to_string(frame) + " drawn");
             reportFrame = false;
@@ -260,7 +277,7 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
         if (options_.outPath.empty()) return;
     }
     std::string path = options_.outPath.empty() ? chapter_.name + ".png" : options_.outPath;
-    writeImage(path, downloadImage(image));
+    writeImage(path, downloadImage(forFile(path)));
     stats_.set("out", fs::absolute(path).string());
     if (!options_.json) std::printf("wrote %s\n", fs::absolute(path).c_str());
 }

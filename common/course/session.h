@@ -64,6 +64,12 @@ public:
     void finish(const ImageBuffer& image, const std::function<void()>& render = {},
                 const std::function<void(int frame)>& eachFrame = {});
 
+    // What the eye sees, where it differs from the linear image (chapter 18's exposure
+    // and tone mapping): `toDisplay` fills `display` from the image, with values the
+    // window and a PNG show as they are (sRGB-encoding them); finish() calls it before
+    // each frame is drawn and before a PNG is written. A PFM is the linear image still.
+    void setDisplay(const ImageBuffer& display, std::function<void()> toDisplay);
+
 private:
     ShaderProgram::Reload reloadChangedShaders();
 
@@ -73,6 +79,8 @@ private:
     std::unique_ptr<GlContext> context_;
     std::list<ShaderProgram> programs_;  // a list: references stay valid as it grows
     Stats stats_;
+    const ImageBuffer* display_ = nullptr;
+    std::function<void()> toDisplay_;
 };
 
 // Blocks until the GPU has finished all queued work; ends the program with exit code 4
