@@ -32,6 +32,13 @@ copied here, so the two renderers cannot drift apart:
                    focus_distance = focus. The regions below stay the pinhole's.
     film        -> `hdrfilm` with a box filter: each sample counts for the pixel it
                    falls in, as our jittered samples do (Mitsuba's default is Gaussian)
+    environment -> `envmap` with the PFM's filename, scale S, and to_world a turn about
+                   [0, 1, 0] by +DEGREES: Mitsuba looks d up at to_world⁻¹ d, our
+                   mapFromWorld, in the same lat-long frame (sky.py), so a spot the
+                   file shows along +x is seen along -z at 90 in both. Mitsuba reads
+                   the map bilinearly with its first and last rows on the poles, we by
+                   nearest pixel: the same file differs in detail, not in orientation
+                   (sky.py's docstring measures the difference)
 
 Path depth: our --depth N counts the surfaces a path may bounce off (N = 1 is direct
 lighting only, what --direct renders). Mitsuba's max_depth counts path segments, so
@@ -160,6 +167,14 @@ def mitsuba_bsdf(material: scene_io.Material, textures: dict | None = None) -> d
         else {"type": "dielectric", **bsdf}
 
 
+def mitsuba_envmap(mi, environment: scene_io.Environment) -> dict:
+    """The scene's environment as Mitsuba 3's envmap: the same file, scale and turn."""
+    return {"type": "envmap", "filename": str(environment.path),
+            "scale": environment.scale,
+            "to_world": mi.ScalarTransform4f().rotate([0, 1, 0],
+                                                      environment.rotate_y_degrees)}
+
+
 def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounces: int,
                        spp: int = 16, work_folder: Path | None = None) -> dict:
     """A Mitsuba scene dictionary for our scene. Triangles are written as OBJ files into
@@ -211,6 +226,8 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
         result[f"sphere_{index}"] = surface(
             {"type": "sphere", "center": list(sphere.center), "radius": sphere.radius},
             sphere.material)
+    if scene.environment is not None:
+        result["environment"] = mitsuba_envmap(mi, scene.environment)
     for index, mesh in enumerate(scene.meshes):
         result[f"mesh_{index}"] = surface(
             {"type": "obj", "filename": str(mesh.path), "flip_tex_coords": False,
@@ -350,6 +367,8 @@ def primary_ids(scene: scene_io.Scene, width: int, height: int, subsamples: int 
             t = triangle_distances(eye, directions, mesh_corners(shape))
         distances.append(t)
         names.append(scene.region_name(kind, index, shape))
+    if not distances:  # only an environment: every ray leaves the scene
+        return np.full((height, width), MISS), names
     distances = np.stack(distances)
     fine = np.where(np.isfinite(distances.min(axis=0)), distances.argmin(axis=0), MISS)
     blocks = fine.reshape(height, subsamples, width, subsamples).transpose(0, 2, 1, 3)
