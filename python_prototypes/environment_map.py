@@ -28,6 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import pfm  # noqa: E402
 import sky  # noqa: E402
+import textures  # noqa: E402
 
 
 def map_from_world(rotate_y_degrees: float) -> np.ndarray:
@@ -55,9 +56,10 @@ def first_bad_texel(image):
 
 def decode_map(data: bytes) -> np.ndarray:
     """The radiance map in a PFM's bytes: float32 (H, W, 3), row 0 at the top (greyscale
-    repeated into RGB). Raises pfm.PfmError if the bytes are not a PFM; the values
-    are not checked here (first_bad_texel does)."""
-    return pfm.decode_pfm(data)
+    repeated into RGB), at most textures.MOST_IMAGE_SIDE a side as the chapters read
+    it. Raises pfm.PfmError if the bytes are not such a PFM; the values are not checked
+    here (first_bad_texel does)."""
+    return pfm.decode_pfm(data, textures.MOST_IMAGE_SIDE)
 
 
 @functools.lru_cache(maxsize=8)
@@ -68,9 +70,13 @@ def _cached_map(path: str, modified_ns: int, size: int) -> np.ndarray:
 
 
 def read_map(path) -> np.ndarray:
-    """decode_map of the file, read once while the file stays unchanged."""
-    status = os.stat(path)
-    return _cached_map(str(path), status.st_mtime_ns, status.st_size)
+    """decode_map of the file, read once while the file stays unchanged. A file that
+    cannot be read raises pfm.PfmError("not readable"), as the C++ reader says."""
+    try:
+        status = os.stat(path)
+        return _cached_map(str(path), status.st_mtime_ns, status.st_size)
+    except OSError:
+        raise pfm.PfmError("not readable") from None
 
 
 # --8<-- [start:lookup]

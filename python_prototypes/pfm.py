@@ -44,45 +44,51 @@ def read_pfm(path) -> np.ndarray:
 
 
 class PfmError(ValueError):
-    """Why some bytes are not a PFM image (a reason, without the file's name)."""
+    """Why some bytes are not a PFM image we read, worded as common/image_read.cpp's
+    pfmProblem words it (after "is "): "not a PFM image (...)", "too big: ...",
+    "not a whole PFM image (...)"."""
 
 
-# Magic, width, height and scale, each followed by whitespace; the single whitespace
-# byte after the scale (normally a newline) is the last byte of the header.
-PFM_HEADER = re.compile(rb"(P[Ff])\s+(\S+)\s+(\S+)\s+(\S+)\s", re.DOTALL)
+NOT_PFM = "not a PFM image (it does not start with PF or Pf)"
+BAD_HEADER = "not a PFM image (a bad width, height or scale line)"
+CUT_SHORT = "not a whole PFM image (the file ends before its last row)"
+TOKEN = re.compile(rb"\s*(\S+)")
+WHOLE_NUMBER = re.compile(rb"[+-]?[0-9]+\Z")
 
 
-def decode_pfm(data: bytes) -> np.ndarray:
-    """A PFM's pixels as float32 (height, width, 3), row 0 at the top; a greyscale
-    "Pf" is repeated into R, G and B. Raises PfmError with the reason otherwise."""
-    if data[:2] not in (b"PF", b"Pf"):
-        raise PfmError("it does not start with 'PF' (RGB) or 'Pf' (greyscale)")
-    header = PFM_HEADER.match(data)
-    if header is None:
-        raise PfmError("its header (PF or Pf, the width, the height, the scale) is cut "
-                       "short")
-    magic, width_word, height_word, scale_word = header.groups()
-    width_text, height_text = width_word.decode("latin-1"), height_word.decode("latin-1")
-    if not (width_word.isdigit() and height_word.isdigit()
-            and int(width_word) > 0 and int(height_word) > 0):
-        raise PfmError(f"its size '{width_text}' x '{height_text}' is not two whole "
-                       "numbers above 0")
-    scale_text = scale_word.decode("latin-1")
+def decode_pfm(data: bytes, most_side: int | None = None) -> np.ndarray:
+    """A PFM's pixels as float32 (height, width, 3), row 0 at the top; a greyscale "Pf"
+    is repeated into R, G and B. The header is read as the C++ reader reads it: "PF" or
+    "Pf", the width, the height and the scale (its sign the byte order) as words
+    separated by white space, then one white-space byte, then the floats (more bytes
+    after them are ignored). most_side: the largest width or height accepted. Raises
+    PfmError with the C++ reader's reason otherwise."""
+    position, words = 0, []
+    for _ in range(4):
+        token = TOKEN.match(data, position)
+        if token is None:
+            break
+        words.append(token.group(1))
+        position = token.end()
+    if not words or words[0] not in (b"PF", b"Pf"):
+        raise PfmError(NOT_PFM)
+    if len(words) < 4 or not (WHOLE_NUMBER.match(words[1]) and WHOLE_NUMBER.match(words[2])):
+        raise PfmError(BAD_HEADER)
+    width, height = int(words[1]), int(words[2])
     try:
-        scale = float(scale_text)
+        scale = float(words[3])
     except ValueError:
-        scale = float("nan")
-    if not (scale != 0 and abs(scale) < float("inf")):
-        raise PfmError(f"its scale '{scale_text}' is not a number other than 0 (its sign "
-                       "gives the byte order)")
-    width, height = int(width_word), int(height_word)
-    channels = 3 if magic == b"PF" else 1
-    pixels = data[header.end():]
+        raise PfmError(BAD_HEADER) from None
+    if width <= 0 or height <= 0 or scale == 0 or not np.isfinite(scale):
+        raise PfmError(BAD_HEADER)
+    if most_side is not None and (width > most_side or height > most_side):
+        raise PfmError(f"too big: {width} x {height} texels: at most {most_side} a side")
+    channels = 3 if words[0] == b"PF" else 1
+    start = position + 1  # the one white-space byte after the scale
     needed = width * height * channels * 4
-    if len(pixels) != needed:
-        raise PfmError(f"{width} x {height} pixels of {channels} float"
-                       f"{'s' if channels > 1 else ''} need {needed} bytes after the "
-                       f"header, and it has {len(pixels)}")
-    values = np.frombuffer(pixels, dtype="<f4" if scale < 0 else ">f4")
+    if len(data) - start < needed:
+        raise PfmError(CUT_SHORT)
+    values = np.frombuffer(data, dtype="<f4" if scale < 0 else ">f4",
+                           count=width * height * channels, offset=start)
     image = values.reshape(height, width, channels)[::-1].astype(np.float32)
     return np.repeat(image, 3, axis=2) if channels == 1 else image

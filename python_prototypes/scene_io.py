@@ -493,8 +493,8 @@ def read_environment(words, scene_path, mesh_folders, line) -> Environment:
     try:
         image = environment_map.read_map(environment.path)
     except pfm.PfmError as error:
-        raise SceneError(f"environment '{words[0]}' ({environment.path}) is not a PFM "
-                         f"image: {error}") from None
+        raise SceneError(f"environment '{words[0]}' ({environment.path}) is "
+                         f"{error}") from None
     bad = environment_map.first_bad_texel(image)
     if bad is not None:
         row, column, what = bad
