@@ -1,7 +1,8 @@
 // The scene: spheres, quads and triangles in storage buffers, each with a material
 // and, if it glows, its place in the emitter list; the triangles' corners, normals and
-// texture coordinates in three more (textures.glsl). A ray tests every sphere and quad (a scene has a few dozen) and finds its triangles (a mesh may have
-// millions) through the bounding volume hierarchy: bvh_traversal.glsl.
+// texture coordinates in three more (textures.glsl). A ray tests every sphere and quad
+// (a scene has a few dozen) and finds its triangles (a mesh may have millions) through
+// the bounding volume hierarchy: bvh_traversal.glsl.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
