@@ -29,6 +29,7 @@ from path_checks import BSDF_PROBE
 
 import environment_map
 import environment_sampling
+import pfm
 import sky
 
 PROBE_SHADER = ROOT / "tests" / "data" / "environment" / "environment_probe.comp"
@@ -331,3 +332,92 @@ def test_gpu_samples_have_the_gpu_pdf(tmp_path, case):
     print(f"{case}: {result}")
     assert result.dof > 500  # cells enough to see the map's structure
     assert result.p_value > LEVEL, str(result)
+
+
+# --- A floor under the sky --------------------------------------------------------------------
+
+FLOOR = """camera eye 0 1 0 look 0 -1 0 up 0 0 -1 focal 0.035 sensor 0.036
+material floor albedo {albedo} {albedo} {albedo}
+quad -100 0 100   200 0 0   0 0 -200   floor name floor
+environment {map} scale 0.02 rotate_y 20
+"""
+
+
+def floor_under_the_sky(tmp_path, estimator, shader_dir=None):
+    """A white floor seen from straight above, lit by the sky alone (direct light):
+    each pixel's radiance is albedo / pi x the upward irradiance of the map, exactly as
+    its pixels are read (sky.upward_irradiance). Returns (image, that radiance)."""
+    scene = tmp_path / "floor.scene"
+    scene.write_text(FLOOR.format(albedo=0.8, map=MAPS["sky"]))
+    extra = ["--shader-dir", shader_dir] if shader_dir else []
+    image = path_checks.path_trace("18", tmp_path, "floor", "--scene", scene, "--width", 64,
+                                   "--height", 64, "--spp", 1024, "--depth", 1, "--estimator",
+                                   estimator, *extra)
+    exact = 0.8 / math.pi * 0.02 * sky.upward_irradiance(environment_map.read_map(MAPS["sky"]))
+    return image, exact
+
+
+@pytest.mark.parametrize("estimator", ["nee", "mis"])
+def test_a_floor_under_the_sky_gets_its_irradiance_without_fireflies(tmp_path, estimator):
+    """Light sampling draws each pixel of the map in proportion to its luminance, so
+    L cos / pdf hardly varies from sample to sample: no pixel far brighter than the
+    rest (4 million samples: the brightest pixel 1.07 x the mean). A sample that takes
+    its radiance from another pixel of the map than the one it was drawn in is a
+    firefly, ~1000 times the mean next to the sun, and the many that lose the sun to its
+    neighbour leave the mean short: looking the sampled direction up again through the
+    GPU's approximate acos and atan does that to ~0.5% of the samples."""
+    image, exact = floor_under_the_sky(tmp_path, estimator)
+    mean, error = path_checks.mean_and_error(image)
+    print(f"{estimator}: {mean} against {exact} (error {error}); brightest pixel "
+          f"{image.mean(axis=2).max() / image.mean():.2f} x the mean")
+    assert np.all(np.abs(mean - exact) < path_checks.SIGMAS * error + 1e-4 * exact)
+    assert image.mean(axis=2).max() < 1.5 * image.mean()  # 1.07 when right
+
+
+# --- Mitsuba 3, region by region ------------------------------------------------------------
+
+def mitsuba_render(scene_file: Path, spp: int, folder: Path, finer: int, size=64):
+    """Mitsuba 3's render of the scene and its regions (path_checks.mitsuba_regions),
+    its map made `finer` times finer each way, each pixel repeated: Mitsuba reads a map
+    bilinearly with row r at v = r / (H - 1) (sky.py's docstring), our chapter reads the
+    nearest pixel, which moves the light by a few tenths of a percent on the sky's
+    ground, several percent on the coarse spots map: more than the noise the regions
+    are compared within. Repeated pixels make the two readings differ only within a
+    fine pixel of the coarse ones' edges."""
+    import scene_io
+    scene = scene_io.load_scene(str(scene_file), [str(f) for f in MESH_FOLDERS])
+    image = environment_map.read_map(scene.environment.path)
+    fine = np.repeat(np.repeat(image, finer, axis=0), finer, axis=1)
+    fine_map = folder / f"fine_{scene.environment.path.name}"
+    pfm.write_pfm(fine_map, fine.astype(np.float32))
+    lines = []
+    for line in scene_file.read_text().splitlines():
+        words = line.split()
+        if words[:1] == ["environment"]:
+            line = " ".join(["environment", str(fine_map), *words[2:]])
+        lines.append(line)
+    copy = folder / f"fine_{scene_file.name}"
+    copy.write_text("\n".join(lines) + "\n")
+    return path_checks.mitsuba_regions(copy, spp, size, MESH_FOLDERS)
+
+
+def test_the_sky_alone_agrees_with_mitsuba(tmp_path):
+    """The environment the only light: what it sends straight to each surface (NEE from
+    its tables, MIS against the BSDF) and after bounces."""
+    scene = TEST_SCENES / "sky_spheres.scene"
+    reference = mitsuba_render(scene, 1024, tmp_path, finer=4)
+    ours = path_checks.path_trace("18", tmp_path, "sky", "--scene", scene, "--width", 64,
+                                  "--height", 64, "--spp", 512)
+    compared = path_checks.assert_regions_within_two_percent(ours, reference, MESH_FOLDERS)
+    assert {"ground", "diffuse_sphere", "glossy_sphere"} <= set(compared)
+
+
+def test_spots_and_a_lamp_agree_with_mitsuba(tmp_path):
+    """An environment and an emitting shape together: next-event estimation picks one
+    of the two (environmentChance), and MIS weighs each against BSDF sampling."""
+    scene = TEST_SCENES / "spots_lamp.scene"
+    reference = mitsuba_render(scene, 1024, tmp_path, finer=8)
+    ours = path_checks.path_trace("18", tmp_path, "spots", "--scene", scene, "--width", 64,
+                                  "--height", 64, "--spp", 512)
+    compared = path_checks.assert_regions_within_two_percent(ours, reference, MESH_FOLDERS)
+    assert {"ground", "sphere"} <= set(compared)
