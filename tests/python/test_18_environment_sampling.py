@@ -416,7 +416,7 @@ def test_spots_and_a_lamp_agree_with_mitsuba(tmp_path):
     """An environment and an emitting shape together: next-event estimation picks one
     of the two (environmentChance), and MIS weighs each against BSDF sampling."""
     scene = TEST_SCENES / "spots_lamp.scene"
-    reference = mitsuba_render(scene, 1024, tmp_path, finer=8)
+    reference = mitsuba_render(scene, 1024, tmp_path, finer=32)
     ours = path_checks.path_trace("18", tmp_path, "spots", "--scene", scene, "--width", 64,
                                   "--height", 64, "--spp", 512)
     compared = path_checks.assert_regions_within_two_percent(ours, reference, MESH_FOLDERS)
