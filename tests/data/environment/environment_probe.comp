@@ -50,12 +50,14 @@ void main() {
     environmentFirstTexel = uint(q.map.z);
     environmentRotation = q.map.w;
     float pdf;
-    vec3 sampled = sampleEnvironment(q.u.xy, pdf);
+    vec3 radiance;  // the chosen pixel's: unused[0] below
+    vec3 sampled = sampleEnvironment(q.u.xy, pdf, radiance);
     Answer a;
     a.sampled = vec4(sampled, pdf);
     a.atDirection = vec4(environmentRadiance(q.direction.xyz),
                          environmentPdf(q.direction.xyz));
     a.atSampled = vec4(environmentRadiance(sampled), environmentPdf(sampled));
-    a.unused[0] = a.unused[1] = a.unused[2] = vec4(0.0);
+    a.unused[1] = a.unused[2] = vec4(0.0);
+    a.unused[0] = vec4(radiance, 0.0);
     answers[i] = a;
 }

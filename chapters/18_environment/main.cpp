@@ -1,0 +1,242 @@
+// Chapter 18: an environment light. Chapter 17's path tracer under a radiance map
+// infinitely far away (environment.glsl): the background, and a light sampled by
+// importance through two tables the host builds from the map (environment.cpp).
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <string>
+
+#include "camera.h"
+#include "course/fly_camera.h"
+#include "course/key_presses.h"
+#include "course/log.h"
+#include "course/loop_budget.h"
+#include "course/scene_file.h"
+#include "course/session.h"
+#include "environment.h"
+#include "gpu_scene.h"
+#include "shared.h"  // bindings and std430 structs, shared with GLSL
+
+int main(int argc, char** argv) {
+    course::CommandLine cli("Chapter 18: an environment light");
+    cli.acceptScene();  // --scene NAME|FILE, default sky_showcase
+    int depth = 6, batches = 1;
+    cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
+               1, 1000);
+    bool direct = false;
+    cli.flag("--direct", "direct illumination only: the same as --depth 1", &direct);
+    std::string estimator = "mis";
+    cli.choice("--estimator", "how light reaching a surface is found",
+               {"nee", "bsdf", "mis"}, &estimator);
+    cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
+               "the GPU between them (the same image)", &batches, 1, 1 << 20);
+    bool bruteForce = false;
+    cli.flag("--brute-force", "test every triangle for every ray, without the tree "
+             "(chapter 12's way: for comparisons)", &bruteForce);
+    std::string view = "radiance";
+    cli.choice("--view", "what the image shows: the path traced light, what the camera "
+               "rays hit (normals, distance in metres, albedo with textures, texture "
+               "coordinates uv), the traversal's work per pixel (cost) or random bounce "
+               "rays (bounce: ambient occlusion)",
+               {"radiance", "normals", "distance", "albedo", "uv", "cost", "bounce"}, &view);
+    float exposure = 0.0f;
+    cli.option("--exposure", "EV", "brighten the displayed picture (window, PNG) by 2^EV; "
+               "the PFM stays radiance", &exposure);
+    std::string toneMap = "aces";
+    cli.choice("--tone-map", "how radiance becomes a displayed value (window, PNG): "
+               "clip at 1, extended Reinhard, the ACES filmic fit, or luminance in "
+               "false colour (keys in the window: - and = for exposure, T for the next)",
+               {"clamp", "reinhard", "aces", "false-colour"}, &toneMap);
+    bool scriptCameraMove = false;
+    cli.flag("--script-camera-move", "window mode: step forward at frame 2 (tests)",
+             &scriptCameraMove);
+    return course::run(cli, argc, argv, [&](course::Session& session) {
+        const course::Options& options = session.options();
+        const int width = options.width, height = options.height;
+        if (direct) depth = 1;
+
+        // 1. The scene file, its meshes, images and environment, and the packed arrays
+        //    (exit code 3 on mistakes). The environment's radiance follows the images'
+        //    texels.
+        course::SceneFile sceneFile =
+            course::loadSceneFile(session.scenePath("sky_showcase"),
+                                  {COURSE_GENERATED_ASSET_DIR},
+                                  course::AcceptedMaterials::All,
+                                  course::SceneExtras::LensTexturesAndEnvironment);
+        GpuScene scene = packScene(sceneFile);
+        EnvironmentMap environment = loadEnvironment(sceneFile);
+        const uint32_t environmentFirstTexel = uint32_t(scene.texels.size());
+        scene.texels.insert(scene.texels.end(), environment.radiance.begin(),
+                            environment.radiance.end());
+        if (environment.distributions.empty()) environment.distributions.push_back(0.0f);
+        course::logInfo(describeBvh(scene.bvh.stats));
+        recordBvhStats(scene.bvh.stats, session.stats());
+        // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
+        // other views trace at most two rays): with the tree, only spheres and quads
+        // are looped over, and its own steps are a few hundred per ray.
+        size_t looped = scene.spheres.size() + scene.quads.size();
+        if (bruteForce) looped = scene.shapeCount();
+        size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
+        const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
+                                        : "Fewer spheres and quads, or a lower --depth, fit.";
+        course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
+                                 2 * rounds, wayOut});
+        session.stats().set("shapes", double(scene.shapeCount()));
+        session.stats().set("triangles", double(scene.triangles.size()));
+        session.stats().set("emitters", double(scene.emitters.size()));
+        session.stats().set("textures", double(scene.textures.size()));
+        session.stats().set("texels", double(scene.texels.size()));
+
+        // --8<-- [start:upload]
+        // 2. Storage buffers: the scene (the triangles' corners, normals and texture
+        //    coordinates; the textures and their texels), the image (the running mean),
+        //    each pixel's random number state and ray count.
+        auto spheres = course::GpuBuffer::fromVector(scene.spheres);
+        auto quads = course::GpuBuffer::fromVector(scene.quads);
+        auto triangles = course::GpuBuffer::fromVector(scene.triangles);
+        auto positions = course::GpuBuffer::fromVector(scene.positions);
+        auto normals = course::GpuBuffer::fromVector(scene.normals);
+        auto materials = course::GpuBuffer::fromVector(scene.materials);
+        auto emitters = course::GpuBuffer::fromVector(scene.emitters);
+        auto bvhNodes = course::GpuBuffer::fromVector(scene.bvh.nodes);
+        auto uvs = course::GpuBuffer::fromVector(scene.uvs);
+        auto textures = course::GpuBuffer::fromVector(scene.textures);
+        auto texels = course::GpuBuffer::fromVector(scene.texels);
+        auto environmentCdf = course::GpuBuffer::fromVector(environment.distributions);
+        course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
+        course::ImageBuffer image(width, height);
+        course::GpuBuffer randomStates(size_t(width) * height * sizeof(glm::uvec4));
+        course::GpuBuffer rayCounts(size_t(width) * height * sizeof(uint32_t));
+        spheres.bindStorage(SPHERES_BINDING);
+        quads.bindStorage(QUADS_BINDING);
+        triangles.bindStorage(TRIANGLES_BINDING);
+        positions.bindStorage(POSITIONS_BINDING);
+        normals.bindStorage(NORMALS_BINDING);
+        materials.bindStorage(MATERIALS_BINDING);
+        emitters.bindStorage(EMITTERS_BINDING);
+        bvhNodes.bindStorage(BVH_NODES_BINDING);
+        uvs.bindStorage(UVS_BINDING);
+        textures.bindStorage(TEXTURES_BINDING);
+        texels.bindStorage(TEXELS_BINDING);
+        environmentCdf.bindStorage(ENVIRONMENT_CDF_BINDING);
+        bounceStarts.bindStorage(BOUNCE_START_BINDING);
+        image.pixels.bindStorage(PIXELS_BINDING);
+        randomStates.bindStorage(RANDOM_BINDING);
+        rayCounts.bindStorage(RAY_COUNT_BINDING);
+        // --8<-- [end:upload]
+
+        // --8<-- [start:dispatch]
+        // 3. Chapter 09's seeding and progressive loop, with the path tracer as the
+        //    sample. What a dispatch reads besides the buffers is one uniform block,
+        //    gpu::PathParameters (shared.h), written before each dispatch: the sample
+        //    count grows, and the fly camera may have moved.
+        course::ShaderProgram& seed = session.loadCompute("seed.comp");
+        course::ShaderProgram& path = session.loadCompute("path.comp");
+        const course::SceneCamera& c = sceneFile.camera;
+        course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
+        gpu::PathParameters parameters{};
+        parameters.imageSize = glm::uvec2(width, height);
+        parameters.seed = options.seed;
+        parameters.maxBounces = depth;
+        parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF
+                                                     : ESTIMATOR_MIS;
+        parameters.view = view == "normals"    ? VIEW_NORMALS
+                          : view == "distance" ? VIEW_DISTANCE
+                          : view == "cost"     ? VIEW_COST
+                          : view == "bounce"   ? VIEW_BOUNCE
+                          : view == "albedo"   ? VIEW_ALBEDO
+                          : view == "uv"       ? VIEW_UV
+                                               : VIEW_RADIANCE;
+        parameters.occlusionDistance = 0.25f * scene.size;
+        parameters.bruteForce = bruteForce;
+        parameters.environmentFirstTexel = environmentFirstTexel;
+        parameters.environmentWidth = uint32_t(environment.width);
+        parameters.environmentHeight = uint32_t(environment.height);
+        parameters.environmentRotation = glm::radians(sceneFile.environment.rotationYDegrees);
+        parameters.environmentChance = !sceneFile.hasEnvironment() ? 0.0f
+                                       : scene.emitters.empty()   ? 1.0f
+                                                                  : ENVIRONMENT_CHANCE;
+        const std::vector<std::string> toneMaps = {"clamp", "reinhard", "aces",
+                                                   "false-colour"};
+        parameters.exposure = exposure;
+        parameters.toneMap = int(std::find(toneMaps.begin(), toneMaps.end(), toneMap) -
+                                 toneMaps.begin());  // TONE_MAP_CLAMP, ... in this order
+        course::GpuBuffer parameterBuffer(sizeof parameters);
+        parameterBuffer.bindUniform(PARAMETERS_BINDING);
+        unsigned samples = 0;
+        auto addSample = [&] {
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // read what the last wrote
+            parameters.camera = thinLensCamera(
+                makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth),
+                c.lensRadius, c.focusDistance);
+            parameters.sampleIndex = samples++;
+            parameterBuffer.write(&parameters, sizeof parameters);
+            path.dispatchCovering(width, height);
+        };
+        auto render = [&] {
+            parameterBuffer.write(&parameters, sizeof parameters);
+            seed.dispatchCovering(width, height);
+            samples = 0;
+            for (int batch = 0; batch < batches; ++batch) {
+                int end = options.spp * (batch + 1) / batches;  // --batches: the same
+                while (int(samples) < end) addSample();         // dispatches, the GPU
+                course::waitForGpu();                           // idle in between
+            }
+        };
+        // --8<-- [end:dispatch]
+
+        // --8<-- [start:display]
+        // 4. What the eye sees: display.comp exposes and tone maps the running mean into
+        //    a second image, which the window shows and a PNG holds (sRGB-encoded); a
+        //    PFM holds the radiance itself.
+        course::ShaderProgram& toDisplay = session.loadCompute("display.comp");
+        course::ImageBuffer displayed(width, height);
+        displayed.pixels.bindStorage(DISPLAY_BINDING);
+        session.setDisplay(displayed, [&] {
+            parameterBuffer.write(&parameters, sizeof parameters);
+            toDisplay.dispatchCovering(width, height);
+        });
+        // --8<-- [end:display]
+
+        // 5. Render --spp samples; headless, write the image.
+        session.timeRender(render);
+
+        // --8<-- [start:window]
+        // 6. Window: one more sample each frame; moving the camera starts over; - and =
+        //    change the exposure by half a stop, T the tone mapping.
+        glm::dvec2 lastCursor(-1.0);
+        course::KeyPresses keys;
+        auto lastFrame = std::chrono::steady_clock::now();
+        auto eachFrame = [&](int frame) {
+            auto now = std::chrono::steady_clock::now();
+            float seconds = std::chrono::duration<float>(now - lastFrame).count();
+            lastFrame = now;
+            course::FlyInput input =
+                course::readFlyInput(session.context().window(), lastCursor, seconds);
+            if (scriptCameraMove && frame == 2) input = {{0, 0, 1}, {0, 0}, 1.0f};
+            if (fly.update(input)) samples = 0;  // start over; the streams go on
+            GLFWwindow* window = session.context().window();
+            if (keys.pressed(window, course::Key::Minus)) parameters.exposure -= 0.5f;
+            if (keys.pressed(window, course::Key::Equal)) parameters.exposure += 0.5f;
+            if (keys.pressed(window, course::Key::T))
+                parameters.toneMap = (parameters.toneMap + 1) % 4;
+            addSample();
+        };
+        // --8<-- [end:window]
+        session.finish(image, render, eachFrame);
+
+        // 6. Statistics: every ray the shader traced (camera, bounce and shadow rays).
+        std::vector<uint32_t> counts = rayCounts.readAll<uint32_t>();
+        double rays = std::accumulate(counts.begin(), counts.end(), 0.0);
+        double seconds = session.stats().number("wall_ms") / 1000.0;
+        session.stats().set("samples_per_pixel", double(samples));
+        session.stats().set("rays", rays);
+        if (!session.isWindow()) {
+            double all = double(width) * height * samples;
+            session.stats().set("samples_per_second", all / seconds);
+            session.stats().set("rays_per_second", rays / seconds);
+        }
+        if (scriptCameraMove) session.stats().set("camera_z", double(fly.eye.z));
+    });
+}
