@@ -264,6 +264,19 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("textured teapot through the lens", 3, TINY, "statistical",
                   "after_due_date", sampling=PATH_SAMPLING),
     ],
+    # Chapter 18's exercises are the environment's pdf (pixelPdf) and its table search
+    # (findStep): either wrong biases every surface the map lights. The spots map and a
+    # lamp (both sampled by next-event estimation) show it most clearly, direct light
+    # first; the showcase under the sky, with its sun, after the due date.
+    "18": [
+        GradeTest("spots and a lamp, direct light", 4,
+                  [*TINY, "--scene", "environment_spots", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("spots and a lamp", 3, [*TINY, "--scene", "environment_spots"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the sky showcase", 3, TINY, "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
+    ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
     # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);

@@ -552,6 +552,87 @@ CHAPTER_17 = [
 CATALOGUE["17"] = CHAPTER_17
 
 
+# ---------------------------------------------------------------- chapter 18
+
+EN = "18_environment"
+SEARCH = """    uint low = 0u, high = count;  // the step is in [low, high)
+    while (high - low > 1u) {
+        uint middle = (low + high) / 2u;
+        if (environmentCdf[start + middle] <= u) low = middle; else high = middle;
+    }
+"""
+FIND_STEP = SEARCH + """    float below = environmentCdf[start + low], above = environmentCdf[start + low + 1u];
+    float along = above > below ? (u - below) / (above - below) : 0.5;
+    return vec2(float(low), clamp(along, 0.0, 1.0));
+"""
+PER_STERADIAN = """    float sinTheta = sin(PI * v);
+    if (sinTheta <= 0.0) return 0.0;
+    float perUv = rowChance * columnChance * float(environmentWidth * environmentHeight);
+    return perUv / (2.0 * PI * PI * sinTheta);
+"""
+PIXEL_UV = """    vec2 uv = vec2((column.x + column.y) / float(environmentWidth),
+                   (row.x + row.y) / float(environmentHeight));
+"""
+LOOKUP_V = "u < 0.0 ? u + 1.0 : u, acos(clamp(d.y, -1.0, 1.0)) / PI"
+
+CHAPTER_18 = [
+    Variant(EN, "search for the first entry above u, halving a count (upper bound)", True, (
+        Edit("shaders/environment.glsl", SEARCH,
+             "    uint first = 0u, remaining = count + 1u;  // the first entry > u\n"
+             "    while (remaining > 0u) {\n"
+             "        uint halfCount = remaining / 2u;\n"
+             "        if (environmentCdf[start + first + halfCount] <= u) {\n"
+             "            first += halfCount + 1u;\n"
+             "            remaining -= halfCount + 1u;\n"
+             "        } else {\n"
+             "            remaining = halfCount;\n"
+             "        }\n"
+             "    }\n"
+             "    uint low = first - 1u;\n"),)),
+    Variant(EN, "a linear search through the steps", True, (
+        Edit("shaders/environment.glsl", SEARCH,
+             "    uint low = 0u;\n"
+             "    while (low + 1u < count && environmentCdf[start + low + 1u] <= u) ++low;\n"),)),
+    Variant(EN, "sin(theta) from cos(theta) as sqrt(1 - cos^2)", True, (
+        Edit("shaders/environment.glsl", "    float sinTheta = sin(PI * v);\n",
+             "    float cosTheta = cos(PI * v);\n"
+             "    float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));\n"),)),
+    # The point inside the pixel uniform in solid angle (cos(theta) uniform across the
+    # row's band), not in (u, v): then the density per steradian is constant over the
+    # pixel, its chance over its solid angle. Correct only with both halves changed.
+    Variant(EN, "uniform in solid angle inside the pixel, pdf = chance / solid angle", True, (
+        Edit("shaders/environment.glsl", PIXEL_UV,
+             "    float cosTop = cos(PI * row.x / float(environmentHeight));\n"
+             "    float cosBottom = cos(PI * (row.x + 1.0) / float(environmentHeight));\n"
+             "    vec2 uv = vec2((column.x + column.y) / float(environmentWidth),\n"
+             "                   acos(clamp(mix(cosTop, cosBottom, row.y), -1.0, 1.0)) / PI);\n"),
+        Edit("shaders/environment.glsl", PER_STERADIAN,
+             "    float cosTop = cos(PI * float(pixel.y) / float(environmentHeight));\n"
+             "    float cosBottom = cos(PI * float(pixel.y + 1u) / float(environmentHeight));\n"
+             "    float solidAngle = 2.0 * PI / float(environmentWidth) * (cosTop - cosBottom);\n"
+             "    return rowChance * columnChance / solidAngle;\n"))),
+
+    Variant(EN, "the pdf per unit of u and v taken per steradian (no sin theta)", False, (
+        Edit("shaders/environment.glsl", "    return perUv / (2.0 * PI * PI * sinTheta);\n",
+             "    return perUv / (2.0 * PI * PI);\n"),)),
+    Variant(EN, "the step above the one u falls in (off by one)", False, (
+        Edit("shaders/environment.glsl", "    return vec2(float(low), clamp(along, 0.0, 1.0));\n",
+             "    return vec2(float(low + 1u), clamp(along, 0.0, 1.0));\n"),)),
+    Variant(EN, "the map read upside down (v from the bottom)", False, (
+        Edit("shaders/environment.glsl", LOOKUP_V,
+             "u < 0.0 ? u + 1.0 : u, 1.0 - acos(clamp(d.y, -1.0, 1.0)) / PI"),)),
+    Variant(EN, "equal steps instead of the table's (the starter's findStep)", False, (
+        Edit("shaders/environment.glsl", FIND_STEP,
+             "    return vec2(floor(u * float(count)), fract(u * float(count)));\n"),)),
+    Variant(EN, "the pdf without the row's chance (the conditional alone)", False, (
+        Edit("shaders/environment.glsl",
+             "    float perUv = rowChance * columnChance * float(",
+             "    float perUv = columnChance * float("),)),
+]
+
+CATALOGUE["18"] = CHAPTER_18
+
+
 # ---------------------------------------------------------------- appendix A1
 
 G = "A1_gl33_fragment"
