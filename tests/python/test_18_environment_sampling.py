@@ -1,7 +1,8 @@
 """Chapter 18: the environment light's importance sampling, and the light it gives
 (book/docs/maintainers.md).
 
-- The sampler on the GPU: environment.glsl's sampleEnvironment, environmentPdf and
+- The sampler on the GPU: environment.glsl's sampleEnvironment (its direction, pdf and
+  the radiance of the pixel it drew), environmentPdf and
   environmentRadiance (tests/data/environment/environment_probe.comp through
   tests/cpp/bsdf_probe.cpp, the map's texels and tables bound as the chapter binds
   them) against python_prototypes/environment_sampling.py for the same uniform
@@ -223,6 +224,33 @@ def test_gpu_samples_match_the_numpy_prototype(tmp_path, case):
     np.testing.assert_allclose(answers[clear, 11], pdf[clear], rtol=2e-3)
     np.testing.assert_allclose(answers[clear, 8:11], probe.sampler.radiance(
         probe.in_map(directions[clear])), rtol=1e-6)
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_each_sample_brings_its_own_pixels_radiance(tmp_path, case):
+    """sampleEnvironment hands back the radiance of the pixel it drew, not a lookup of
+    the direction again (which near an edge may find the neighbour: a firefly next to
+    the sun). Drawn in proportion to luminance x sin(theta) at the pixel's centre,
+    every sample's luminance over its pdf, times sin(theta) there over sin(theta)
+    where the sample is, is one number: 2 pi^2 / (W H) x the sum of the weights, the
+    sun's samples and the sky's alike."""
+    probe = Probe(case, shaders_with(tmp_path), tmp_path)
+    u = uniform_numbers(np.random.default_rng(4), 200_000)
+    answers = probe.run(u, np.tile([0.0, 1.0, 0.0], (len(u), 1)))
+    in_map, _, (row, column) = probe.sampler.sample(u[:, 0].astype(np.float64),
+                                                    u[:, 1].astype(np.float64))
+    np.testing.assert_array_equal(answers[:, 12:15], probe.radiance[row, column])
+    weights = (probe.radiance.astype(np.float64) @ [0.2126, 0.7152, 0.0722]
+               * np.sin(np.pi * (np.arange(probe.height) + 0.5) / probe.height)[:, None])
+    constant = 2 * np.pi ** 2 / (probe.width * probe.height) * weights.sum()
+    sin_theta = np.hypot(in_map[:, 0], in_map[:, 2])
+    centre = np.sin(np.pi * (row + 0.5) / probe.height)
+    usable = (answers[:, 3] > 0) & (sin_theta > 0.01)
+    assert usable.mean() > 0.99
+    value = (answers[:, 12:15] @ [0.2126, 0.7152, 0.0722]) / answers[:, 3] * centre / sin_theta
+    # Float32 steps of the CDF round a dim pixel's chance by up to ~0.5% where the
+    # sun's row climbs near 1; a neighbour's radiance would be off by 1000 times.
+    np.testing.assert_allclose(value[usable], constant, rtol=1e-2)
 
 
 @pytest.mark.parametrize("case", list(CASES))
