@@ -49,8 +49,8 @@ JUNK = 1.0e6
 PROBE_BATCH = 1_000_000
 
 # The planted bugs: (file, the right text, the wrong one).
-NO_SIN_THETA = ("environment.glsl", "return perUv / (2.0 * PI * PI * sinTheta);",
-                "return perUv / (2.0 * PI * PI);")
+# (Parts of lines: a starter ships this file, and no whole line of a solution.)
+NO_SIN_THETA = ("environment.glsl", "(2.0 * PI * PI * sinTheta)", "(2.0 * PI * PI)")
 UPSIDE_DOWN = ("environment.glsl", "u < 0.0 ? u + 1.0 : u, acos(clamp(d.y, -1.0, 1.0)) / PI",
                "u < 0.0 ? u + 1.0 : u, 1.0 - acos(clamp(d.y, -1.0, 1.0)) / PI")
 
