@@ -13,5 +13,8 @@ void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= imageSize.x || pixel.y >= imageSize.y) return;
     uint index = pixel.y * imageSize.x + pixel.x;
-    displayed[index] = vec4(toneMapped(pixels[index].rgb, exposure, toneMap), 1.0);
+    // The other views (albedo, normals, ...) show numbers, not light: as they are.
+    bool light = view == VIEW_RADIANCE;
+    displayed[index] = vec4(toneMapped(pixels[index].rgb, light ? exposure : 0.0,
+                                       light ? toneMap : TONE_MAP_CLAMP), 1.0);
 }
