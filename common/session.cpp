@@ -221,8 +221,9 @@ void Session::setDisplay(const ImageBuffer& display, std::function<void()> toDis
 void Session::finish(const ImageBuffer& image, const std::function<void()>& render,
                      const std::function<void(int frame)>& eachFrame) {
     // The image as the eye sees it: the display's, made fresh, or the image itself.
+    // A display pass is a compute shader's (GL 4.3 on): the GL 3.3 appendix has none.
     auto shown = [&]() -> const ImageBuffer& {
-        if (!display_) return image;
+        if (!display_ || !GLAD_GL_VERSION_4_3) return image;
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         toDisplay_();
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include <glm/trigonometric.hpp>
+
 #include "course/image_read.h"
 #include "course/text_file.h"
 
@@ -73,4 +75,18 @@ EnvironmentMap loadEnvironment(const course::SceneFile& scene) {
         appendCdf(&weights[size_t(row) * map.width], map.width, map.distributions);
     // --8<-- [end:weights]
     return map;
+}
+
+void addEnvironment(EnvironmentMap& map, const course::SceneFile& scene,
+                    bool hasEmittingShapes, std::vector<glm::vec4>& texels,
+                    gpu::PathParameters& parameters) {
+    parameters.environmentFirstTexel = uint32_t(texels.size());
+    texels.insert(texels.end(), map.radiance.begin(), map.radiance.end());
+    if (map.distributions.empty()) map.distributions.push_back(0.0f);  // a buffer of one
+    parameters.environmentWidth = uint32_t(map.width);
+    parameters.environmentHeight = uint32_t(map.height);
+    parameters.environmentRotation = glm::radians(scene.environment.rotationYDegrees);
+    parameters.environmentChance = !scene.hasEnvironment() ? 0.0f
+                                   : hasEmittingShapes      ? ENVIRONMENT_CHANCE
+                                                            : 1.0f;
 }

@@ -166,3 +166,32 @@ GpuScene packScene(const course::SceneFile& scene, const BvhOptions& bvhOptions)
     buildTree(gpu, bvhOptions);
     return gpu;
 }
+
+SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& environmentCdf) {
+    using course::GpuBuffer;
+    SceneBuffers buffers{GpuBuffer::fromVector(scene.spheres),
+                         GpuBuffer::fromVector(scene.quads),
+                         GpuBuffer::fromVector(scene.triangles),
+                         GpuBuffer::fromVector(scene.positions),
+                         GpuBuffer::fromVector(scene.normals),
+                         GpuBuffer::fromVector(scene.materials),
+                         GpuBuffer::fromVector(scene.emitters),
+                         GpuBuffer::fromVector(scene.bvh.nodes),
+                         GpuBuffer::fromVector(scene.uvs),
+                         GpuBuffer::fromVector(scene.textures),
+                         GpuBuffer::fromVector(scene.texels),
+                         GpuBuffer::fromVector(environmentCdf)};
+    buffers.spheres.bindStorage(SPHERES_BINDING);
+    buffers.quads.bindStorage(QUADS_BINDING);
+    buffers.triangles.bindStorage(TRIANGLES_BINDING);
+    buffers.positions.bindStorage(POSITIONS_BINDING);
+    buffers.normals.bindStorage(NORMALS_BINDING);
+    buffers.materials.bindStorage(MATERIALS_BINDING);
+    buffers.emitters.bindStorage(EMITTERS_BINDING);
+    buffers.bvhNodes.bindStorage(BVH_NODES_BINDING);
+    buffers.uvs.bindStorage(UVS_BINDING);
+    buffers.textures.bindStorage(TEXTURES_BINDING);
+    buffers.texels.bindStorage(TEXELS_BINDING);
+    buffers.environmentCdf.bindStorage(ENVIRONMENT_CDF_BINDING);
+    return buffers;
+}

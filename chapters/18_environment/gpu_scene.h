@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bvh.h"
+#include "course/gpu_buffer.h"
 #include "course/scene_file.h"
 #include "shared.h"  // the gpu:: structs, laid out as the shaders read them
 
@@ -32,3 +33,11 @@ struct GpuScene {
 // Loads the scene's meshes (chapter 07's OBJ loader; exit code 3 with file:line) and
 // packs everything, then builds the tree over the triangles and puts them in its order.
 GpuScene packScene(const course::SceneFile& scene, const BvhOptions& bvhOptions = {});
+
+// The scene's storage buffers, each bound at its binding point (shared.h), with the
+// environment's sampling tables (environment.h).
+struct SceneBuffers {
+    course::GpuBuffer spheres, quads, triangles, positions, normals, materials, emitters,
+        bvhNodes, uvs, textures, texels, environmentCdf;
+};
+SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& environmentCdf);

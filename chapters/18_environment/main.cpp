@@ -8,11 +8,11 @@
 
 #include "camera.h"
 #include "course/fly_camera.h"
-#include "course/key_presses.h"
 #include "course/log.h"
 #include "course/loop_budget.h"
 #include "course/scene_file.h"
 #include "course/session.h"
+#include "display.h"
 #include "environment.h"
 #include "gpu_scene.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
@@ -39,14 +39,8 @@ int main(int argc, char** argv) {
                "coordinates uv), the traversal's work per pixel (cost) or random bounce "
                "rays (bounce: ambient occlusion)",
                {"radiance", "normals", "distance", "albedo", "uv", "cost", "bounce"}, &view);
-    float exposure = 0.0f;
-    cli.option("--exposure", "EV", "brighten the displayed picture (window, PNG) by 2^EV; "
-               "the PFM stays radiance", &exposure);
-    std::string toneMap = "aces";
-    cli.choice("--tone-map", "how radiance becomes a displayed value (window, PNG): "
-               "clip at 1, extended Reinhard, the ACES filmic fit, or luminance in "
-               "false colour (keys in the window: - and = for exposure, T for the next)",
-               {"clamp", "reinhard", "aces", "false-colour"}, &toneMap);
+    DisplayOptions display;
+    declareDisplayOptions(cli, display);  // --exposure, --tone-map
     bool scriptCameraMove = false;
     cli.flag("--script-camera-move", "window mode: step forward at frame 2 (tests)",
              &scriptCameraMove);
@@ -65,10 +59,9 @@ int main(int argc, char** argv) {
                                   course::SceneExtras::LensTexturesAndEnvironment);
         GpuScene scene = packScene(sceneFile);
         EnvironmentMap environment = loadEnvironment(sceneFile);
-        const uint32_t environmentFirstTexel = uint32_t(scene.texels.size());
-        scene.texels.insert(scene.texels.end(), environment.radiance.begin(),
-                            environment.radiance.end());
-        if (environment.distributions.empty()) environment.distributions.push_back(0.0f);
+        gpu::PathParameters parameters{};
+        addEnvironment(environment, sceneFile, !scene.emitters.empty(), scene.texels,
+                       parameters);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());
         // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
@@ -88,37 +81,14 @@ int main(int argc, char** argv) {
         session.stats().set("texels", double(scene.texels.size()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene (the triangles' corners, normals and texture
-        //    coordinates; the textures and their texels), the image (the running mean),
-        //    each pixel's random number state and ray count.
-        auto spheres = course::GpuBuffer::fromVector(scene.spheres);
-        auto quads = course::GpuBuffer::fromVector(scene.quads);
-        auto triangles = course::GpuBuffer::fromVector(scene.triangles);
-        auto positions = course::GpuBuffer::fromVector(scene.positions);
-        auto normals = course::GpuBuffer::fromVector(scene.normals);
-        auto materials = course::GpuBuffer::fromVector(scene.materials);
-        auto emitters = course::GpuBuffer::fromVector(scene.emitters);
-        auto bvhNodes = course::GpuBuffer::fromVector(scene.bvh.nodes);
-        auto uvs = course::GpuBuffer::fromVector(scene.uvs);
-        auto textures = course::GpuBuffer::fromVector(scene.textures);
-        auto texels = course::GpuBuffer::fromVector(scene.texels);
-        auto environmentCdf = course::GpuBuffer::fromVector(environment.distributions);
+        // 2. Storage buffers: the scene (chapter 17's, and the environment's tables; each
+        //    bound by uploadScene), the image (the running mean), each pixel's random
+        //    number state and ray count.
+        SceneBuffers sceneBuffers = uploadScene(scene, environment.distributions);
         course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
         course::ImageBuffer image(width, height);
         course::GpuBuffer randomStates(size_t(width) * height * sizeof(glm::uvec4));
         course::GpuBuffer rayCounts(size_t(width) * height * sizeof(uint32_t));
-        spheres.bindStorage(SPHERES_BINDING);
-        quads.bindStorage(QUADS_BINDING);
-        triangles.bindStorage(TRIANGLES_BINDING);
-        positions.bindStorage(POSITIONS_BINDING);
-        normals.bindStorage(NORMALS_BINDING);
-        materials.bindStorage(MATERIALS_BINDING);
-        emitters.bindStorage(EMITTERS_BINDING);
-        bvhNodes.bindStorage(BVH_NODES_BINDING);
-        uvs.bindStorage(UVS_BINDING);
-        textures.bindStorage(TEXTURES_BINDING);
-        texels.bindStorage(TEXELS_BINDING);
-        environmentCdf.bindStorage(ENVIRONMENT_CDF_BINDING);
         bounceStarts.bindStorage(BOUNCE_START_BINDING);
         image.pixels.bindStorage(PIXELS_BINDING);
         randomStates.bindStorage(RANDOM_BINDING);
@@ -134,7 +104,6 @@ int main(int argc, char** argv) {
         course::ShaderProgram& path = session.loadCompute("path.comp");
         const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
-        gpu::PathParameters parameters{};
         parameters.imageSize = glm::uvec2(width, height);
         parameters.seed = options.seed;
         parameters.maxBounces = depth;
@@ -150,18 +119,8 @@ int main(int argc, char** argv) {
                                                : VIEW_RADIANCE;
         parameters.occlusionDistance = 0.25f * scene.size;
         parameters.bruteForce = bruteForce;
-        parameters.environmentFirstTexel = environmentFirstTexel;
-        parameters.environmentWidth = uint32_t(environment.width);
-        parameters.environmentHeight = uint32_t(environment.height);
-        parameters.environmentRotation = glm::radians(sceneFile.environment.rotationYDegrees);
-        parameters.environmentChance = !sceneFile.hasEnvironment() ? 0.0f
-                                       : scene.emitters.empty()   ? 1.0f
-                                                                  : ENVIRONMENT_CHANCE;
-        const std::vector<std::string> toneMaps = {"clamp", "reinhard", "aces",
-                                                   "false-colour"};
-        parameters.exposure = exposure;
-        parameters.toneMap = int(std::find(toneMaps.begin(), toneMaps.end(), toneMap) -
-                                 toneMaps.begin());  // TONE_MAP_CLAMP, ... in this order
+        parameters.exposure = display.exposure;
+        parameters.toneMap = toneMapCode(display.toneMap);
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;
@@ -216,11 +175,7 @@ int main(int argc, char** argv) {
                 course::readFlyInput(session.context().window(), lastCursor, seconds);
             if (scriptCameraMove && frame == 2) input = {{0, 0, 1}, {0, 0}, 1.0f};
             if (fly.update(input)) samples = 0;  // start over; the streams go on
-            GLFWwindow* window = session.context().window();
-            if (keys.pressed(window, course::Key::Minus)) parameters.exposure -= 0.5f;
-            if (keys.pressed(window, course::Key::Equal)) parameters.exposure += 0.5f;
-            if (keys.pressed(window, course::Key::T))
-                parameters.toneMap = (parameters.toneMap + 1) % 4;
+            adjustDisplay(session.context().window(), keys, parameters);
             addSample();
         };
         // --8<-- [end:window]

@@ -68,9 +68,9 @@ CornerNormals normalsOf(Triangle triangle) {
 // The texture coordinates at the hit point: the corners' vt blended with the same
 // weights as the normals.
 vec2 triangleUv(Triangle triangle, vec2 barycentric) {
-    float u = barycentric.x, v = barycentric.y;
-    return (1.0 - u - v) * uvs[triangle.cornerUvs.x] + u * uvs[triangle.cornerUvs.y]
-         + v * uvs[triangle.cornerUvs.z];
+    vec3 weights = vec3(1.0 - barycentric.x - barycentric.y, barycentric);
+    return weights.x * uvs[triangle.cornerUvs.x] + weights.y * uvs[triangle.cornerUvs.y]
+         + weights.z * uvs[triangle.cornerUvs.z];
 }
 // --8<-- [end:triangle_uv]
 
