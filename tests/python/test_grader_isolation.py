@@ -260,13 +260,18 @@ def test_a_fork_bomb(solution, tmp_path):
     assert results["score"] == results["tests"][0]["max_score"]
 
 
-def test_a_memory_bomb(solution, tmp_path):
+def test_a_memory_bomb(solution, tmp_path, monkeypatch):
+    # A lower memory limit and room in time, so that the memory limit is what stops the
+    # bomb even on a loaded machine (faulting in 1.5 GiB once took more than 3 s of CPU).
+    monkeypatch.setenv("COURSE_GRADE_MEMORY_MB", "512")
+    monkeypatch.setenv("COURSE_GRADE_CPU_SECONDS", "30")
+    monkeypatch.setenv("COURSE_GRADE_WALL_SECONDS", "60")
     code = """
     std::vector<char*> hog;
     for (;;) { hog.push_back(new char[64 << 20]); std::memset(hog.back(), 1, 64 << 20); }"""
     results, output, _, _ = grade(hostile(solution, tmp_path / "s", code), tmp_path)
     assert results["score"] == 0
-    assert "crashed with signal SIGABRT (out of memory: the limit is 1536 MiB)" in output
+    assert "crashed with signal SIGABRT (out of memory: the limit is 512 MiB)" in output
 
 
 def test_no_network(solution, tmp_path):
