@@ -135,7 +135,8 @@ std::string CommandLine::usage() const {
         << "  --headless | --window   render off-screen (default without a display)\n"
         << "                          or show the image in a window\n";
     if (makesImage_)
-        out << "  --out FILE              write the image: .png (8-bit sRGB) or .pfm (float)\n"
+        out << "  --out FILE              write the image: .png (8-bit sRGB), or .pfm or .exr\n"
+            << "                          (linear floats)\n"
             << "  --width N, --height N   image size in pixels (1.." << kMaxImageSide << ")\n";
     out << "  --spp N                 samples per pixel\n"
         << "  --seed N                random seed\n";

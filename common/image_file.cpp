@@ -12,6 +12,7 @@
 #include <stb/stb_image_write.h>
 
 #include "course/error.h"
+#include "course/exr_file.h"
 
 namespace fs = std::filesystem;
 
@@ -66,8 +67,11 @@ float linearToSrgb(float linear) {
 
 void checkOutputPath(const std::string& path) {
     std::string ext = extensionOf(path);
-    if (ext != ".png" && ext != ".pfm")
-        fail(ExitCode::BadUsage, "--out " + path + ": the file name must end in .png or .pfm");
+    if (ext != ".png" && ext != ".pfm" && ext != ".exr")
+        fail(ExitCode::BadUsage,
+             "--out " + path + ": the file name must end in .png, .pfm or .exr");
+    if (ext == ".exr" && !whyNoExr().empty())
+        fail(ExitCode::BadUsage, "--out " + path + ": " + whyNoExr());
     fs::path folder = fs::absolute(path).parent_path();
     std::error_code error;
     if (!fs::is_directory(folder, error))
@@ -90,31 +94,45 @@ void checkOutputPath(const std::string& path) {
     std::remove(probe.c_str());
 }
 
-void writeFileAtomically(const std::string& path, const std::string& bytes) {
+void writeFileAtomically(const std::string& path,
+                         const std::function<std::string(const std::string&)>& write) {
     fs::path target = fs::absolute(path);
     fs::path temporary = target;
     temporary += ".tmp" + std::to_string(getpid());
     // An output we cannot write is a usage problem (exit 2): a read-only or full disk,
     // a path the user chose. The message says which folder and why.
-    auto cannotWrite = [&](const char* step) {
-        std::string reason = std::strerror(errno);
+    auto cannotWrite = [&](const char* step, const std::string& reason) {
         std::error_code ignored;
         fs::remove(temporary, ignored);
         fail(ExitCode::BadUsage, "cannot write the image " + target.string() + " (" + step +
                                      " failed: " + reason + ")");
     };
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (!file) cannotWrite("creating a temporary file");
-    bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-    written = (std::fflush(file) == 0) && written;
-    if (std::fclose(file) != 0 || !written) cannotWrite("writing");
-    if (std::rename(temporary.c_str(), target.c_str()) != 0) cannotWrite("renaming");
+    const std::string problem = write(temporary.string());
+    if (!problem.empty()) cannotWrite("writing", problem);
+    if (std::rename(temporary.c_str(), target.c_str()) != 0)
+        cannotWrite("renaming", std::strerror(errno));
+}
+
+void writeFileAtomically(const std::string& path, const std::string& bytes) {
+    writeFileAtomically(path, [&](const std::string& temporary) -> std::string {
+        std::FILE* file = std::fopen(temporary.c_str(), "wb");
+        if (!file) return std::string("creating a temporary file: ") + std::strerror(errno);
+        bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+        written = (std::fflush(file) == 0) && written;
+        const int closed = std::fclose(file);
+        return closed == 0 && written ? "" : std::strerror(errno);
+    });
 }
 
 void writeImage(const std::string& path, const Image& image) {
     checkOutputPath(path);
-    std::string ext = extensionOf(path);
-    writeFileAtomically(path, ext == ".png" ? encodePng(image) : encodePfm(image));
+    const std::string ext = extensionOf(path);
+    if (ext == ".exr")
+        writeFileAtomically(path, [&](const std::string& temporary) {
+            return writeExr(temporary, image);
+        });
+    else
+        writeFileAtomically(path, ext == ".png" ? encodePng(image) : encodePfm(image));
 }
 
 }  // namespace course

@@ -9,6 +9,7 @@
 #include <stb/stb_image.h>
 
 #include "course/error.h"
+#include "course/exr_file.h"
 
 namespace course {
 
@@ -128,6 +129,27 @@ ImageF readPfm(const std::string& path) {
                     source[size_t(x) * header.channels + (header.channels == 3 ? c : 0)];
     }
     return image;
+}
+
+bool startsLikeExr(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    unsigned char magic[4] = {};
+    file.read(reinterpret_cast<char*>(magic), 4);
+    return file && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
+}
+
+std::string radianceMapProblem(const std::string& path) {
+    if (startsLikeExr(path))
+        return exrProblem(path);
+    std::string problem = pfmProblem(path);
+    if (problem.rfind("not a PFM image (it does not start", 0) == 0)
+        problem = "not a PFM or OpenEXR image (it starts with neither PF, Pf nor the EXR "
+                  "magic number)";
+    return problem;
+}
+
+ImageF readRadianceMap(const std::string& path) {
+    return startsLikeExr(path) ? readExr(path) : readPfm(path);
 }
 
 }  // namespace course

@@ -556,11 +556,11 @@ private:
                      inQuotes(words[i + 1]));
             (option == "scale" ? environment.scale : environment.rotationYDegrees) = value;
         }
-        const std::string problem = pfmProblem(environment.path);
+        const std::string problem = radianceMapProblem(environment.path);
         if (!problem.empty())
             fail("environment " + inQuotes(environment.writtenPath) + " (" +
                  environment.path + ") is " +
-                 (problem.rfind("not ", 0) == 0 ? "" : "too big: ") + problem);
+                 (problem.find(" a side") == std::string::npos ? "" : "too big: ") + problem);
         environment.line = lineNumber_;
         scene_.environment = environment;
     }

@@ -3,7 +3,8 @@ radiance it sends along any direction (the reference the renderer is checked aga
 
     environment PATH [scale S] [rotate_y DEGREES]
 
-The map is a latitude-longitude PFM in sky.py's orientation (Mitsuba 3's envmap at
+The map is a latitude-longitude PFM (or OpenEXR, read here through Mitsuba's reader)
+in sky.py's orientation (Mitsuba 3's envmap at
 identity to_world): u = atan2(x, -z) / 2π wrapped into [0, 1), v = acos(y) / π, and
 pixel (row r from the image's top, column c) is the constant radiance of the patch
 u in [c, c+1]/W, v in [r, r+1]/H: the nearest pixel, no filtering.
@@ -54,17 +55,60 @@ def first_bad_texel(image):
     return int(row), int(column), what
 
 
-def decode_map(data: bytes) -> np.ndarray:
-    """The radiance map in a PFM's bytes: float32 (H, W, 3), row 0 at the top (greyscale
-    repeated into RGB), at most textures.MOST_IMAGE_SIDE a side as the chapters read
-    it. Raises pfm.PfmError if the bytes are not such a PFM; the values are not checked
-    here (first_bad_texel does)."""
-    return pfm.decode_pfm(data, textures.MOST_IMAGE_SIDE)
+EXR_MAGIC = b"\x76\x2f\x31\x01"
+
+
+def decode_map(path: str) -> np.ndarray:
+    """The radiance map in a PFM or an EXR file: float32 (H, W, 3), row 0 at the top
+    (greyscale repeated into RGB), at most textures.MOST_IMAGE_SIDE a side as the
+    chapters read it. Raises pfm.PfmError if the file is not such a map, worded as
+    common/image_read.cpp's radianceMapProblem; the values are not checked here
+    (first_bad_texel does)."""
+    data = Path(path).read_bytes()
+    if data[:4] == EXR_MAGIC:
+        return decode_exr(path)
+    try:
+        return pfm.decode_pfm(data, textures.MOST_IMAGE_SIDE)
+    except pfm.PfmError as error:
+        if str(error).startswith("not a PFM image (it does not start"):
+            raise pfm.PfmError("not a PFM or OpenEXR image (it starts with neither PF, Pf "
+                               "nor the EXR magic number)") from None
+        raise
+
+
+def decode_exr(path: str) -> np.ndarray:
+    """An EXR's R, G, B (or Y) channels as float32, through Mitsuba's Bitmap (the test
+    layer's OpenEXR reader; the renderer's is OpenEXR itself, common/exr_file.cpp). From
+    the file, not from bytes in memory: Mitsuba 3.9's reader of a cut EXR in a
+    MemoryStream never returns."""
+    import mitsuba
+    if mitsuba.variant() is None:
+        mitsuba.set_variant("scalar_rgb")
+    try:
+        bitmap = mitsuba.Bitmap(str(path))
+    except RuntimeError as error:  # OpenEXR's reason ends the message
+        reason = str(error).strip().splitlines()[-1].strip()
+        reason = reason.split(": ", 1)[-1] if reason.startswith('"') else reason
+        raise pfm.PfmError(f"not a readable OpenEXR image ({reason})") from None
+    channels = {field.name: i for i, field in enumerate(bitmap.struct_())}
+    image = np.array(bitmap, dtype=np.float32).reshape(bitmap.height(), bitmap.width(), -1)
+    if all(c in channels for c in "RGB"):
+        image = image[..., [channels["R"], channels["G"], channels["B"]]]
+    elif "Y" in channels:
+        image = np.repeat(image[..., [channels["Y"]]], 3, axis=-1)
+    else:
+        names = ", ".join(channels) or "none"
+        raise pfm.PfmError(f"an OpenEXR image without R, G and B (or Y) channels (it has: "
+                           f"{names})")
+    if max(image.shape[:2]) > textures.MOST_IMAGE_SIDE:
+        raise pfm.PfmError(f"too big: {image.shape[1]} x {image.shape[0]} texels: at most "
+                           f"{textures.MOST_IMAGE_SIDE} a side")
+    return np.ascontiguousarray(image)
 
 
 @functools.lru_cache(maxsize=8)
 def _cached_map(path: str, modified_ns: int, size: int) -> np.ndarray:
-    image = decode_map(Path(path).read_bytes())
+    image = decode_map(path)
     image.setflags(write=False)  # shared by every caller: nobody may change it
     return image
 

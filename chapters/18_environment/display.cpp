@@ -12,7 +12,7 @@ const std::vector<std::string> kToneMaps = {"clamp", "reinhard", "aces", "false-
 
 void declareDisplayOptions(course::CommandLine& cli, DisplayOptions& options) {
     cli.option("--exposure", "EV", "brighten the displayed picture (window, PNG) by 2^EV; "
-               "the PFM stays radiance", &options.exposure);
+               "PFM and EXR stay radiance", &options.exposure);
     cli.choice("--tone-map", "how radiance becomes a displayed value (window, PNG): "
                "clip at 1, extended Reinhard, the ACES filmic fit, or luminance in "
                "false colour (keys in the window: - and = for exposure, T for the next)",

@@ -36,7 +36,7 @@ EnvironmentMap loadEnvironment(const course::SceneFile& scene) {
     EnvironmentMap map;
     if (!scene.hasEnvironment()) return map;
     const course::SceneEnvironment& environment = scene.environment;
-    const course::ImageF image = course::readPfm(environment.path);
+    const course::ImageF image = course::readRadianceMap(environment.path);
     map.width = image.width;
     map.height = image.height;
     for (size_t i = 0; i < image.rgb.size(); ++i)

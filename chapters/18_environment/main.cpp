@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
         // --8<-- [start:display]
         // 4. What the eye sees: display.comp exposes and tone maps the running mean into
         //    a second image, which the window shows and a PNG holds (sRGB-encoded); a
-        //    PFM holds the radiance itself.
+        //    PFM or EXR holds the radiance itself.
         course::ShaderProgram& toDisplay = session.loadCompute("display.comp");
         course::ImageBuffer displayed(width, height);
         displayed.pixels.bindStorage(DISPLAY_BINDING);

@@ -1,5 +1,6 @@
 // Reading images: PNG and JPEG for textures, with stb_image (compiled once in
-// common/stb_image.cpp), and PFM radiance maps for the environment light. Decoding
+// common/stb_image.cpp), and PFM or OpenEXR radiance maps for the environment light
+// (EXR through the OpenEXR library: common/exr_file.cpp). Decoding
 // image files is not a lesson of the course; what a texture does with the values (sRGB
 // decoding, filtering) is, in chapter 17, and what a light does with a map, in 18.
 #pragma once
@@ -25,7 +26,7 @@ std::string imageProblem(const std::string& path);
 // Throws Failure(BadInput) naming the file when it cannot be read.
 Image8 readImage8(const std::string& path);
 
-// A float image: what a PFM file holds.
+// A float image: what a PFM or EXR file holds.
 struct ImageF {
     int width = 0, height = 0;
     std::vector<float> rgb;  // row 0 is the TOP row (PFM files store the bottom first)
@@ -39,5 +40,12 @@ std::string pfmProblem(const std::string& path);
 // Failure(BadInput) naming the file when it cannot be read; the values are as the
 // file has them (the caller decides what a NaN or a negative value means).
 ImageF readPfm(const std::string& path);
+
+// A radiance map: OpenEXR when the file starts with EXR's magic number, else PFM.
+// Empty when it can be read, else what is wrong with it (a PFM's header and length;
+// an EXR is read whole).
+std::string radianceMapProblem(const std::string& path);
+// The whole map; throws Failure(BadInput) naming the file when it cannot be read.
+ImageF readRadianceMap(const std::string& path);
 
 }  // namespace course

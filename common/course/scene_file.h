@@ -55,7 +55,7 @@
 //       to the scene file's folder or, if not found there, to each mesh folder the
 //       program passes in (the build's generated assets); the first that exists wins.
 //   environment PATH [scale S] [rotate_y DEGREES]
-//       a latitude-longitude radiance map (PFM), infinitely far: the background and a
+//       a latitude-longitude radiance map (PFM or OpenEXR), infinitely far: the background and a
 //       light (chapter 18). A direction d has u = atan2(d.x, -d.z) / 2 pi, v =
 //       acos(d.y) / pi (python_prototypes/sky.py), the map's top row at v = 0; S > 0
 //       scales its radiance (default 1); the map is turned by DEGREES about y,

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "course/error.h"
+#include "course/exr_file.h"
 #include "course/image_file.h"
 #include "course/image_read.h"
 
@@ -113,5 +114,8 @@ TEST(ImageFile, BadPathsAreRefusedBeforeWriting) {
     EXPECT_EQ(codeOf((folder / "missing" / "a.png").string()), course::ExitCode::BadUsage);
     EXPECT_EQ(codeOf(folder.string() + "/"), course::ExitCode::BadUsage);
     EXPECT_EQ(codeOf((folder / "a.PNG").string()), course::ExitCode::Ok);
+    // .exr is written in a build with OpenEXR, and refused before rendering without it.
+    EXPECT_EQ(codeOf((folder / "a.exr").string()),
+              course::whyNoExr().empty() ? course::ExitCode::Ok : course::ExitCode::BadUsage);
     fs::remove_all(folder);
 }

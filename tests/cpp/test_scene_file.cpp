@@ -697,7 +697,8 @@ TEST_F(SceneFileTest, EnvironmentMistakes) {
                         (folder_ / "nowhere.pfm").string() + ")"));
     EXPECT_EQ(env("environment photo.pfm"),
               at(4, "environment 'photo.pfm' (" + (folder_ / "photo.pfm").string() +
-                        ") is not a PFM image (it does not start with PF or Pf)"));
+                        ") is not a PFM or OpenEXR image (it starts with neither PF, Pf nor "
+                        "the EXR magic number)"));
     EXPECT_EQ(env("environment short.pfm"),
               at(4, "environment 'short.pfm' (" + (folder_ / "short.pfm").string() +
                         ") is not a whole PFM image (the file ends before its last row)"));

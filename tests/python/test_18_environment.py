@@ -11,6 +11,10 @@
   --exposure say.
 - Bad maps: a NaN, an infinity or a negative texel is exit code 3 at the environment's
   line; chapter 17 refuses an environment.
+- OpenEXR: the .exr output is the PFM's radiance, read back by Mitsuba's reader (not
+  ours); a map written as EXR by Mitsuba (float, or grey half floats) lights the scene as
+  its PFM does; a file that is neither, or a cut EXR, is exit code 3 at its line.
+  (Odd EXR layouts, read through OpenEXR: tests/cpp/test_exr_file.cpp.)
 
 The limits and why: tests/python/path_checks.py."""
 
@@ -196,3 +200,65 @@ def test_chapter_17_refuses_an_environment(tmp_path):
     assert result.returncode == 3
     assert f"{scene}:4: this program has no environment light; it comes in chapter 18" \
         in result.stderr
+
+
+# --- OpenEXR ----------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def mi():
+    import mitsuba
+    mitsuba.set_variant("scalar_rgb")
+    return mitsuba
+
+
+def test_the_exr_is_the_pfm_read_by_mitsuba(tmp_path, mi):
+    outs = {}
+    for kind in ("pfm", "exr"):
+        out = tmp_path / f"sky.{kind}"
+        result = run_chapter("18", "--headless", "--width", "40", "--height", "24", "--spp",
+                             "2", "--seed", "5", "--tone-map", "aces", "--out", out)
+        assert result.returncode == 0, result.stderr
+        outs[kind] = out
+    bitmap = mi.Bitmap(str(outs["exr"]))
+    assert bitmap.pixel_format() == mi.Bitmap.PixelFormat.RGB
+    assert bitmap.component_format() == mi.Struct.Type.Float32
+    exr = np.array(bitmap)
+    assert exr.shape == (24, 40, 3)
+    assert exr.max() > 1.0  # radiance, not tone mapped
+    assert np.array_equal(exr, read_pfm(outs["pfm"])[..., :3])
+
+
+def test_an_exr_map_lights_the_scene_as_its_pfm(tmp_path, mi):
+    spots = ASSETS / "environments" / "spots.pfm"
+    colour = pfm.decode_pfm(spots.read_bytes())[..., :3].astype(np.float32)
+    mi.Bitmap(colour).write(str(tmp_path / "spots.exr"))
+    # Grey half floats: values a half holds exactly, so the two maps are the same.
+    grey = np.round(colour.mean(axis=-1, keepdims=True) * 4) / 4
+    write_map(tmp_path / "grey.pfm", np.repeat(grey, 3, axis=-1))
+    mi.Bitmap(grey.astype(np.float16)).write(str(tmp_path / "grey.exr"))
+    scene = CAMERA + "material m albedo 0.6 0.6 0.6\nsphere 0 0 0 1 m\n"
+    for pfm_name, exr_name in [(spots, "spots.exr"), ("grey.pfm", "grey.exr")]:
+        images = [render(tmp_path, f"map{i}", scene + f"environment {name} rotate_y 30\n",
+                         "--width", 32, "--height", 24, "--spp", 4, "--seed", 2)
+                  for i, name in enumerate((pfm_name, exr_name))]
+        assert images[0].max() > 0.1
+        assert np.array_equal(images[0], images[1]), exr_name
+
+
+@pytest.mark.parametrize("content, reason", [
+    (b"#?RADIANCE\n", "is not a PFM or OpenEXR image (it starts with neither PF, Pf nor "
+                      "the EXR magic number)"),
+    ("cut", "is not a readable OpenEXR image (")])
+def test_a_bad_exr_is_refused_at_the_environment_line(tmp_path, mi, content, reason):
+    if content == "cut":  # the first 400 bytes of a good EXR
+        mi.Bitmap(np.ones((32, 64, 3), np.float32)).write(str(tmp_path / "good.exr"))
+        content = (tmp_path / "good.exr").read_bytes()[:400]
+    (tmp_path / "bad.exr").write_bytes(content)
+    scene = tmp_path / "bad.scene"
+    scene.write_text(CAMERA + "material m albedo 0.5 0.5 0.5\nsphere 0 0 0 1 m\n"
+                     "environment bad.exr\n")
+    result = run_chapter("18", "--headless", "--scene", scene, "--out", tmp_path / "x.exr")
+    assert result.returncode == 3
+    assert f"{scene}:4: environment 'bad.exr' ({tmp_path / 'bad.exr'}) {reason}" \
+        in result.stderr, result.stderr
+    assert not (tmp_path / "x.exr").exists()

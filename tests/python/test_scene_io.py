@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import environment_map
 import gems
 import obj_io
 import pfm
@@ -461,7 +462,8 @@ def test_missing_environment_lists_where_it_looked(tmp_path, generated):
 
 
 GOOD_HEADER = b"PF\n2 1\n-1.0\n"
-NOT_PFM = "not a PFM image (it does not start with PF or Pf)"
+NOT_PFM = ("not a PFM or OpenEXR image (it starts with neither PF, Pf nor the EXR magic "
+           "number)")
 BAD_HEADER = "not a PFM image (a bad width, height or scale line)"
 CUT_SHORT = "not a whole PFM image (the file ends before its last row)"
 # As tests/cpp/test_scene_file.cpp's EnvironmentMistakes and common/image_read.cpp.
@@ -492,6 +494,27 @@ def test_a_map_that_is_not_a_pfm_is_refused_with_the_reason(tmp_path, data, reas
         scene_io.load_scene(path)
     assert str(error.value) == f"{path}:4: environment 'bad.pfm' ({tmp_path}/bad.pfm) " \
                                f"is {reason}"
+
+
+def test_an_exr_map_is_read_as_its_pfm(tmp_path):
+    """Through Mitsuba's reader, R, G, B or a grey Y; a cut file is refused."""
+    import mitsuba
+    mitsuba.set_variant("scalar_rgb")
+    colour = np.arange(24, dtype=np.float32).reshape(2, 4, 3) / 7
+    mitsuba.Bitmap(colour).write(str(tmp_path / "colour.exr"))
+    mitsuba.Bitmap(colour[..., :1].astype(np.float16)).write(str(tmp_path / "grey.exr"))
+    path = tmp_path / "s.scene"
+    for name, expected in [("colour.exr", colour),
+                           ("grey.exr", np.repeat(colour[..., :1].astype(np.float16), 3, -1))]:
+        path.write_text(LIT_BY_SKY + f"environment {name}\n")
+        environment = scene_io.load_scene(path).environment
+        assert np.array_equal(environment_map.read_map(environment.path), expected), name
+    (tmp_path / "cut.exr").write_bytes((tmp_path / "colour.exr").read_bytes()[:300])
+    path.write_text(LIT_BY_SKY + "environment cut.exr\n")
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value).startswith(f"{path}:4: environment 'cut.exr' ({tmp_path}/cut.exr) "
+                                       "is not a readable OpenEXR image (")
 
 
 def test_bytes_after_the_last_row_are_ignored(tmp_path):
