@@ -234,15 +234,19 @@ def shaders_with_bug(chapter: str, destination: Path, bug=None, extra=()) -> Pat
 
 
 def run_bsdf_probe(probe_shader: str, shader_dir: Path, queries: np.ndarray,
-                   tmp_path: Path) -> np.ndarray:
+                   tmp_path: Path, buffers: dict | None = None) -> np.ndarray:
     """Runs a probe shader (in shader_dir, beside the chapter's BSDF code) on (N, 20)
-    float32 queries through tests/cpp/bsdf_probe.cpp; returns the (N, 24) answers."""
+    float32 queries through tests/cpp/bsdf_probe.cpp; returns the (N, 24) answers.
+    `buffers` maps a storage-buffer binding to a file of floats bound there too (an
+    environment map's texels and tables, as the chapter binds them)."""
     assert BSDF_PROBE.exists(), \
         f"{BSDF_PROBE} is not built (cmake --build build --target bsdf_probe)"
     queries_file, answers_file = tmp_path / "queries.f32", tmp_path / "answers.f32"
     np.ascontiguousarray(queries, dtype=np.float32).tofile(queries_file)
+    extra = [str(word) for binding, path in (buffers or {}).items()
+             for word in ("--buffer", binding, path)]
     result = subprocess.run([BSDF_PROBE, shader_dir, shader_dir / probe_shader,
-                             queries_file, answers_file], capture_output=True, text=True,
-                            timeout=300)
+                             queries_file, answers_file, *extra], capture_output=True,
+                            text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     return np.fromfile(answers_file, dtype=np.float32).reshape(-1, 24).astype(np.float64)

@@ -19,14 +19,12 @@ The limits and why: tests/python/path_checks.py."""
 from __future__ import annotations
 
 import math
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import path_checks
 import pytest
 from conftest import ROOT
-from path_checks import BSDF_PROBE
 
 import environment_map
 import environment_sampling
@@ -135,18 +133,9 @@ class Probe:
         queries[:, 4:7] = directions
         queries[:, 8:12] = (self.width, self.height, FIRST_TEXEL,
                             np.float32(math.radians(self.degrees)))
-        queries_file = self.folder / "queries.f32"
-        answers_file = self.folder / "answers.f32"
-        queries.tofile(queries_file)
-        assert BSDF_PROBE.exists(), \
-            f"{BSDF_PROBE} is not built (cmake --build build --target bsdf_probe)"
-        result = subprocess.run(
-            [BSDF_PROBE, self.shader_dir, self.shader_dir / PROBE_SHADER.name, queries_file,
-             answers_file, "--buffer", str(TEXELS_BINDING), self.texels_file,
-             "--buffer", str(ENVIRONMENT_CDF_BINDING), self.tables_file],
-            capture_output=True, text=True, timeout=300)
-        assert result.returncode == 0, result.stderr
-        return np.fromfile(answers_file, np.float32).reshape(-1, 24).astype(np.float64)
+        return path_checks.run_bsdf_probe(
+            PROBE_SHADER.name, self.shader_dir, queries, self.folder,
+            {TEXELS_BINDING: self.texels_file, ENVIRONMENT_CDF_BINDING: self.tables_file})
 
     def sample(self, u: np.ndarray):
         """The GPU's sampled directions (N, 3) and pdfs (N,)."""
