@@ -387,12 +387,25 @@ def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
         objects.append(str(target))
     program = workdir / chapter
     link = ["g++", *objects, "-o", str(program), *map(str, libraries),
-            "-lEGL", "-lglfw", "-ldl", "-lpthread"]
+            *system_libraries(build, chapter), "-lpthread"]
     code, output = run_limited(link, workdir, timeout=limits.compile_seconds)
     if code != 0:
         return None, (f"linking failed ({describe_exit(code, output, limits.compile_seconds)})"
                       f":\n{output}")
     return program, log
+
+
+def system_libraries(build: Path, chapter: str) -> list[str]:
+    """What the solution's program links besides the course's own two libraries, as
+    CMake wrote it into build.ninja (GLFW, EGL, OpenGL, OpenEXR and what those need):
+    the same link line, whichever packages and versions this machine has."""
+    ninja = (build / "build.ninja").read_text()
+    block = re.search(rf"^build bin/{re.escape(chapter)}: .*?\n((?:  .*\n)*)", ninja, re.M)
+    line = re.search(r"^  LINK_LIBRARIES = (.*)$", block.group(1), re.M) if block else None
+    if line is None:
+        raise FileNotFoundError(f"no link line for bin/{chapter} in {build / 'build.ninja'}")
+    own = {"common/libcourse_common.a", "libglad.a"}
+    return [word for word in shlex.split(line.group(1)) if word not in own]
 
 
 def copy_submission(submission: Path, chapter: str, destination: Path) -> str:
