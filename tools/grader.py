@@ -398,14 +398,27 @@ def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
 def system_libraries(build: Path, chapter: str) -> list[str]:
     """What the solution's program links besides the course's own two libraries, as
     CMake wrote it into build.ninja (GLFW, EGL, OpenGL, OpenEXR and what those need):
-    the same link line, whichever packages and versions this machine has."""
-    ninja = (build / "build.ninja").read_text()
-    block = re.search(rf"^build bin/{re.escape(chapter)}: .*?\n((?:  .*\n)*)", ninja, re.M)
+    the same link line, whichever packages and versions this machine has. Kept in
+    build/grading/NN/link-libraries.txt, so that a prepared autograder needs no
+    build.ninja."""
+    kept = private_folder(build / "grading" / chapter) / "link-libraries.txt"
+    ninja = build / "build.ninja"
+    if not ninja.exists():
+        if not kept.exists():
+            raise FileNotFoundError(f"neither {ninja} nor {kept}: was this autograder "
+                                    "prepared (./course grade NN --prepare)?")
+        return kept.read_text().split("\n")[:-1]
+    block = re.search(rf"^build bin/{re.escape(chapter)}: .*?\n((?:  .*\n)*)",
+                      ninja.read_text(), re.M)
     line = re.search(r"^  LINK_LIBRARIES = (.*)$", block.group(1), re.M) if block else None
     if line is None:
-        raise FileNotFoundError(f"no link line for bin/{chapter} in {build / 'build.ninja'}")
+        raise FileNotFoundError(f"no link line for bin/{chapter} in {ninja}")
     own = {"common/libcourse_common.a", "libglad.a"}
-    return [word for word in shlex.split(line.group(1)) if word not in own]
+    libraries = [word for word in shlex.split(line.group(1)) if word not in own]
+    text = "".join(f"{word}\n" for word in libraries)
+    if not kept.exists() or kept.read_text() != text:
+        kept.write_text(text)
+    return libraries
 
 
 def copy_submission(submission: Path, chapter: str, destination: Path) -> str:
@@ -546,6 +559,7 @@ def prepare(root: Path, build: Path, chapter: str) -> list[Path]:
     """./course grade NN --prepare: the references, and a mark saying that grading may go
     on without the solution's sources (an autograder image removes them after this)."""
     references = prepare_references(root, build, chapter)
+    system_libraries(build, chapter)  # the link line, kept beside the references
     (build / "grading" / chapter / "prepared").write_text(
         "".join(f"{p.name}\n" for p in references))
     return references

@@ -22,7 +22,7 @@ BAD_USAGE = [
     (["--spp", "0"], "--spp must be between"),
     (["--bogus"], "unknown option '--bogus'"),
     (["--out"], "--out needs a value"),
-    (["--out", "picture.jpg"], "must end in .png or .pfm"),
+    (["--out", "picture.jpg"], "must end in .png, .pfm or .exr"),
     (["--out", "/nonexistent/folder/x.png"], "does not exist"),
     (["--backend", "vulkan"], "--backend must be egl, osmesa or glfw"),
     (["--shader-dir", "/nonexistent"], "shader folder not found"),
