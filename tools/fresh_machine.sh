@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The fresh-machine check: the README's two commands, exactly as written, on a clean
-# Debian made with debootstrap. Nothing of this machine's is in the root but what a
+# Debian (or Ubuntu 22.04) made with debootstrap. Nothing of this machine's is in the root but what a
 # learner's machine would have: compilers, CMake, Ninja, git, Debian's own python3 and
 # venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
 # and pip reach the package mirrors as they do here.)
 #
 #   tools/fresh_machine.sh SUITE [--chapter NN] [--gradescope NN] [--keep]
 #
-#   SUITE         bookworm (Debian 12) or trixie (Debian 13)
+#   SUITE         bookworm (Debian 12), trixie (Debian 13) or jammy (Ubuntu 22.04,
+#                 Gradescope's image: Python 3.10, OpenEXR 2.5; main and universe,
+#                 with jammy-updates and jammy-security as an installed Ubuntu has)
 #   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run does:
 #                 the whole test layer is set up and built, one chapter's checks run)
 #   --gradescope NN  instead: lay the root out as Gradescope does (/autograder/source,
@@ -42,8 +44,8 @@ while [ $# -gt 0 ]; do
   esac
 done
 case "$SUITE" in
-  bookworm | trixie) ;;
-  *) echo "fresh_machine: SUITE is bookworm or trixie, not '$SUITE'" >&2; exit 2 ;;
+  bookworm | trixie | jammy) ;;
+  *) echo "fresh_machine: SUITE is bookworm, trixie or jammy, not '$SUITE'" >&2; exit 2 ;;
 esac
 if [ "$(id -u)" -ne 0 ]; then
   echo "fresh_machine: needs root (debootstrap, chroot)" >&2
@@ -56,6 +58,11 @@ fi
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 MIRROR="${COURSE_DEBIAN_MIRROR:-http://deb.debian.org/debian}"
+DEBOOTSTRAP_OPTIONS=()
+if [ "$SUITE" = jammy ]; then
+  MIRROR="${COURSE_UBUNTU_MIRROR:-http://archive.ubuntu.com/ubuntu}"
+  DEBOOTSTRAP_OPTIONS=(--components=main,universe)
+fi
 # What a learner's machine has before the README: compilers, CMake, Ninja, git, Python.
 BASE_PACKAGES="g++,cmake,ninja-build,git,python3,python3-venv,ca-certificates"
 CACHE="${COURSE_FRESH_CACHE:-/var/tmp/course-fresh}"
@@ -73,18 +80,53 @@ trap cleanup EXIT
 
 seconds() { date +%s; }
 
+# Ubuntu's archive key, which Debian does not ship: from Ubuntu's ubuntu-keyring
+# package, accepted only if it is the archive signing key whose fingerprint Ubuntu
+# publishes (https://wiki.ubuntu.com/SecurityTeam/FAQ).
+UBUNTU_ARCHIVE_KEY=F6ECB3762474EDA9D21B7022871920D1991BC93C
+ubuntu_keyring() {
+  local keyring="$CACHE/ubuntu-archive-keyring.gpg" work
+  if [ ! -s "$keyring" ]; then
+    work=$(mktemp -d)
+    curl -fsS -o "$work/keyring.deb" \
+      "$MIRROR/pool/main/u/ubuntu-keyring/ubuntu-keyring_2021.03.26_all.deb" >&2
+    dpkg-deb -x "$work/keyring.deb" "$work/unpacked"
+    cp "$work/unpacked/usr/share/keyrings/ubuntu-archive-keyring.gpg" "$keyring.partial"
+    rm -rf "$work"
+    if ! gpg --show-keys --with-colons "$keyring.partial" 2>/dev/null |
+        grep -q "^fpr:::::::::$UBUNTU_ARCHIVE_KEY:"; then
+      echo "fresh_machine: the downloaded Ubuntu keyring lacks key $UBUNTU_ARCHIVE_KEY" >&2
+      exit 1
+    fi
+    mv "$keyring.partial" "$keyring"
+  fi
+  echo "$keyring"
+}
+
 # 1. A minimal Debian: debootstrap once per suite, then unpack the cached tarball.
 mkdir -p "$CACHE"
+if [ "$SUITE" = jammy ]; then
+  DEBOOTSTRAP_OPTIONS+=(--keyring="$(ubuntu_keyring)")
+fi
 if [ ! -s "$BASE_TAR" ]; then
   echo "fresh_machine: debootstrap $SUITE (minbase + $BASE_PACKAGES)" >&2
   started=$(seconds)
-  debootstrap --variant=minbase --include="$BASE_PACKAGES" "$SUITE" "$ROOTFS" "$MIRROR" \
+  debootstrap --variant=minbase "${DEBOOTSTRAP_OPTIONS[@]}" --include="$BASE_PACKAGES" \
+    "$SUITE" "$ROOTFS" "$MIRROR" \
     >"$CACHE/$SUITE-debootstrap.log" 2>&1 ||
     { tail -20 "$CACHE/$SUITE-debootstrap.log" >&2; exit 1; }
   tar -C "$ROOTFS" -cf "$BASE_TAR.partial" . && mv "$BASE_TAR.partial" "$BASE_TAR"
   echo "fresh_machine: debootstrap took $(($(seconds) - started)) s" >&2
 else
   tar -C "$ROOTFS" -xf "$BASE_TAR"
+fi
+
+# An installed Ubuntu has its updates and universe; debootstrap wrote the release alone.
+if [ "$SUITE" = jammy ]; then
+  cat >"$ROOTFS/etc/apt/sources.list" <<SOURCES
+deb $MIRROR jammy jammy-updates main universe
+deb http://security.ubuntu.com/ubuntu jammy-security main universe
+SOURCES
 fi
 
 # mktemp made the folder 0700 (and the tarball keeps that mode for "."): a machine's /
