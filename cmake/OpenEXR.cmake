@@ -1,19 +1,22 @@
-# OpenEXR, for .exr images (the linear output, environment maps): its CMake package
-# (OpenEXR 3, or 2.4-2.5's IlmImf as on Ubuntu 22.04), else pkg-config's OpenEXR.
+# OpenEXR, for .exr images (the linear output, environment maps): pkg-config's OpenEXR
+# first, else its CMake package (OpenEXR 3, or 2.4-2.5's IlmImf). pkg-config first:
+# Ubuntu 22.04's OpenEXR 2.5 CMake package stops the configure with an error when zlib's
+# headers are missing, which its package does not install.
 # Found here, at the top, so that common/ and the unit tests can both link it.
 # Sets COURSE_WITH_OPENEXR (ON or OFF) and COURSE_OPENEXR_LIBRARY.
-find_package(OpenEXR CONFIG QUIET)
-if(TARGET OpenEXR::OpenEXR)
-  set(COURSE_OPENEXR_LIBRARY OpenEXR::OpenEXR)
-elseif(TARGET OpenEXR::IlmImf)
-  set(COURSE_OPENEXR_LIBRARY OpenEXR::IlmImf)
-else()
-  find_package(PkgConfig QUIET)
-  if(PkgConfig_FOUND)
-    pkg_check_modules(COURSE_OPENEXR QUIET IMPORTED_TARGET OpenEXR)
-    if(COURSE_OPENEXR_FOUND)
-      set(COURSE_OPENEXR_LIBRARY PkgConfig::COURSE_OPENEXR)
-    endif()
+find_package(PkgConfig QUIET)
+if(PkgConfig_FOUND)
+  pkg_check_modules(COURSE_OPENEXR QUIET IMPORTED_TARGET OpenEXR)
+  if(COURSE_OPENEXR_FOUND)
+    set(COURSE_OPENEXR_LIBRARY PkgConfig::COURSE_OPENEXR)
+  endif()
+endif()
+if(NOT COURSE_OPENEXR_LIBRARY)
+  find_package(OpenEXR CONFIG QUIET)
+  if(TARGET OpenEXR::OpenEXR)
+    set(COURSE_OPENEXR_LIBRARY OpenEXR::OpenEXR)
+  elseif(TARGET OpenEXR::IlmImf)
+    set(COURSE_OPENEXR_LIBRARY OpenEXR::IlmImf)
   endif()
 endif()
 # AUTO (the default) uses it when found, looked for again at each configure; ON requires
