@@ -17,19 +17,13 @@
 #include "course/exr_file.h"
 #include "course/image_file.h"
 #include "course/image_read.h"
+#include "scratch_folder.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch() {
-    fs::path folder = fs::temp_directory_path() /
-                      ("course_exr_test_" +
-                       std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
-}
+fs::path scratch() { return scratchFolder("course_exr_test_"); }
 
 // A 3 x 2 image whose every value differs: value = 100 row + 10 column + channel, plus a
 // fraction that needs all of a float's bits.

@@ -10,19 +10,13 @@
 #include "course/exr_file.h"
 #include "course/image_file.h"
 #include "course/image_read.h"
+#include "scratch_folder.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch() {
-    fs::path folder = fs::temp_directory_path() /
-                      ("course_image_test_" +
-                       std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
-}
+fs::path scratch() { return scratchFolder("course_image_test_"); }
 
 std::string readAll(const fs::path& path) {
     std::ifstream file(path, std::ios::binary);

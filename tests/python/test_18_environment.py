@@ -175,16 +175,23 @@ def test_the_pfm_is_radiance_whatever_the_display(tmp_path):
 
 # --- Bad maps ---------------------------------------------------------------------------------
 
+def run_with_map(tmp_path, chapter, map_name, out_name):
+    """The chapter on a sphere lit by `map_name` (line 4 of the scene): the scene's path
+    and the finished process."""
+    scene = tmp_path / "map.scene"
+    scene.write_text(CAMERA + "material m albedo 0.5 0.5 0.5\nsphere 0 0 0 1 m\n"
+                     f"environment {map_name}\n")
+    return scene, run_chapter(chapter, "--headless", "--scene", scene, "--out",
+                              tmp_path / out_name)
+
+
 @pytest.mark.parametrize("value, word", [(math.nan, "nan"), (math.inf, "inf"),
                                          (-0.5, "negative")])
 def test_a_bad_texel_is_refused_at_the_environment_line(tmp_path, value, word):
     image = np.ones((4, 8, 3))
     image[1, 5, 2] = value
     write_map(tmp_path / "bad.pfm", image)
-    scene = tmp_path / "bad.scene"
-    scene.write_text(CAMERA + "material m albedo 0.5 0.5 0.5\nsphere 0 0 0 1 m\n"
-                     "environment bad.pfm\n")
-    result = run_chapter("18", "--headless", "--scene", scene, "--out", tmp_path / "x.png")
+    scene, result = run_with_map(tmp_path, "18", "bad.pfm", "x.png")
     assert result.returncode == 3
     assert (f"{scene}:4: environment 'bad.pfm': texel (row 1, column 5) is {word}"
             in result.stderr), result.stderr
@@ -193,10 +200,7 @@ def test_a_bad_texel_is_refused_at_the_environment_line(tmp_path, value, word):
 
 def test_chapter_17_refuses_an_environment(tmp_path):
     write_map(tmp_path / "grey.pfm", np.ones((4, 8, 3)))
-    scene = tmp_path / "env.scene"
-    scene.write_text(CAMERA + "material m albedo 0.5 0.5 0.5\nsphere 0 0 0 1 m\n"
-                     "environment grey.pfm\n")
-    result = run_chapter("17", "--headless", "--scene", scene, "--out", tmp_path / "x.png")
+    scene, result = run_with_map(tmp_path, "17", "grey.pfm", "x.png")
     assert result.returncode == 3
     assert f"{scene}:4: this program has no environment light; it comes in chapter 18" \
         in result.stderr
@@ -254,10 +258,7 @@ def test_a_bad_exr_is_refused_at_the_environment_line(tmp_path, mi, content, rea
         mi.Bitmap(np.ones((32, 64, 3), np.float32)).write(str(tmp_path / "good.exr"))
         content = (tmp_path / "good.exr").read_bytes()[:400]
     (tmp_path / "bad.exr").write_bytes(content)
-    scene = tmp_path / "bad.scene"
-    scene.write_text(CAMERA + "material m albedo 0.5 0.5 0.5\nsphere 0 0 0 1 m\n"
-                     "environment bad.exr\n")
-    result = run_chapter("18", "--headless", "--scene", scene, "--out", tmp_path / "x.exr")
+    scene, result = run_with_map(tmp_path, "18", "bad.exr", "x.exr")
     assert result.returncode == 3
     assert f"{scene}:4: environment 'bad.exr' ({tmp_path / 'bad.exr'}) {reason}" \
         in result.stderr, result.stderr
