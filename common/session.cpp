@@ -50,8 +50,8 @@ std::string Session::scenePath(const std::string& defaultScene) const {
     return path;
 }
 
-ShaderProgram& Session::loadCompute(const std::string& fileName) {
-    programs_.push_back(ShaderProgram::compute(shaderDir_, fileName));
+ShaderProgram& Session::loadCompute(const std::string& fileName, GeneratedFiles generated) {
+    programs_.push_back(ShaderProgram::compute(shaderDir_, fileName, std::move(generated)));
     return programs_.back();
 }
 

@@ -80,8 +80,10 @@ std::vector<ShaderFile> withoutRepeats(const std::vector<ShaderFile>& files) {
 
 }  // namespace
 
-ShaderProgram::ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages)
-    : shaderDir_(std::move(shaderDir)), stages_(std::move(stages)) {
+ShaderProgram::ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages,
+                             GeneratedFiles generated)
+    : shaderDir_(std::move(shaderDir)), stages_(std::move(stages)),
+      generated_(std::move(generated)) {
     std::vector<ShaderFile> filesRead;
     id_ = build(filesRead, sources_);
     watched_ = withoutRepeats(filesRead);
@@ -93,7 +95,8 @@ ShaderProgram::~ShaderProgram() {
 
 ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
     : id_(std::exchange(other.id_, 0)), shaderDir_(std::move(other.shaderDir_)),
-      stages_(std::move(other.stages_)), watched_(std::move(other.watched_)),
+      stages_(std::move(other.stages_)), generated_(std::move(other.generated_)),
+      watched_(std::move(other.watched_)),
       sources_(std::move(other.sources_)) {}
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
@@ -102,6 +105,7 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
         id_ = std::exchange(other.id_, 0);
         shaderDir_ = std::move(other.shaderDir_);
         stages_ = std::move(other.stages_);
+        generated_ = std::move(other.generated_);
         watched_ = std::move(other.watched_);
         sources_ = std::move(other.sources_);
     }
@@ -114,7 +118,8 @@ GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead, std::string& sou
     sources.clear();
     try {
         for (const ShaderStage& stage : stages_) {
-            ShaderSource source = loadShaderSource(shaderDir_, stage.fileName, &filesRead);
+            ShaderSource source = loadShaderSource(shaderDir_, stage.fileName, &filesRead,
+                                                   generated_);
             sources += source.text;
             label += (label.empty() ? "" : " + ") + source.shownPaths.front();
             shaders.push_back(compileStage(stage.type, source.text, source.shownPaths));

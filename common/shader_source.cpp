@@ -81,7 +81,19 @@ struct Preprocessor {
     fs::path folder;
     ShaderSource result;
     std::vector<ShaderFile>* filesRead = nullptr;
+    const GeneratedFiles* generated = nullptr;
     std::vector<fs::path> includeStack;
+
+    // A generated file's text, if `file` is one: it lives in the shader folder by name.
+    const std::string* generatedText(const fs::path& file) const {
+        if (file.parent_path() != folder) return nullptr;
+        auto found = generated->find(file.filename().string());
+        return found == generated->end() ? nullptr : &found->second;
+    }
+    std::string shownPathOf(const fs::path& file) const {
+        return generatedText(file) ? course::shownPathOf(file) + " (generated)"
+                                   : course::shownPathOf(file);
+    }
 
     void append(const fs::path& file, const std::string& includedFrom, int depth) {
         if (depth > kMaxIncludeDepth)
@@ -90,8 +102,9 @@ struct Preprocessor {
             if (open == file)
                 shaderFailure(includedFrom, "#include cycle: " + shownPathOf(file) +
                                                 " includes itself");
-        std::optional<std::string> read = readShaderFile(file.string());
-        if (filesRead) filesRead->push_back({file.string(), shownPathOf(file), read});
+        const std::string* made = generatedText(file);
+        std::optional<std::string> read = made ? *made : readShaderFile(file.string());
+        if (filesRead && !made) filesRead->push_back({file.string(), shownPathOf(file), read});
         if (!read)
             shaderFailure(includedFrom.empty() ? shownPathOf(file) : includedFrom,
                           "cannot read shader file " + file.string());
@@ -176,8 +189,10 @@ std::optional<std::string> readShaderFile(const std::string& path) {
 }
 
 ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName,
-                              std::vector<ShaderFile>* filesRead) {
+                              std::vector<ShaderFile>* filesRead,
+                              const GeneratedFiles& generated) {
     Preprocessor preprocessor;
+    preprocessor.generated = &generated;
     preprocessor.folder = fs::absolute(shaderDir).lexically_normal();
     preprocessor.filesRead = filesRead;
     preprocessor.append(preprocessor.folder / fileName, "", 0);

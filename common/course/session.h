@@ -45,7 +45,8 @@ public:
 
     // Compiles a compute shader from the checkpoint's shader folder. The session keeps
     // it, so window mode can hot-reload it; the reference stays valid.
-    ShaderProgram& loadCompute(const std::string& fileName);
+    // `generated`: files the chapter wrote itself, which #include finds by name first.
+    ShaderProgram& loadCompute(const std::string& fileName, GeneratedFiles generated = {});
     // The same for a program of several stages, e.g. a fragment and a vertex shader
     // (the GL 3.3 appendix draws instead of dispatching). Messages name the first.
     ShaderProgram& loadProgram(const std::vector<ShaderStage>& stages);

@@ -4,6 +4,7 @@
 // the last good program when the new source does not compile.
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -21,9 +22,12 @@ struct ShaderStage {
 class ShaderProgram {
 public:
     ShaderProgram() = default;
-    ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages);
-    static ShaderProgram compute(const std::string& shaderDir, const std::string& fileName) {
-        return ShaderProgram(shaderDir, {{GL_COMPUTE_SHADER, fileName}});
+    // `generated`: files the program wrote itself, which #include finds by name first.
+    ShaderProgram(std::string shaderDir, std::vector<ShaderStage> stages,
+                  GeneratedFiles generated = {});
+    static ShaderProgram compute(const std::string& shaderDir, const std::string& fileName,
+                                 GeneratedFiles generated = {}) {
+        return ShaderProgram(shaderDir, {{GL_COMPUTE_SHADER, fileName}}, std::move(generated));
     }
     ~ShaderProgram();
     ShaderProgram(ShaderProgram&& other) noexcept;
@@ -79,6 +83,7 @@ private:
     GLuint id_ = 0;
     std::string shaderDir_;
     std::vector<ShaderStage> stages_;
+    GeneratedFiles generated_;         // the same text at every reload
     std::vector<ShaderFile> watched_;  // every file read, includes too, as last read
     std::string sources_;              // the stages' preprocessed text, for name checks
 };

@@ -3,6 +3,7 @@
 // so a compiler message "0:12(5): error" can be turned back into file.comp:12.
 // Pure C++, no GL: unit-tested on its own.
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,12 +23,18 @@ struct ShaderFile {
     std::optional<std::string> text;  // none: it could not be read
 };
 
+// Files a program writes itself rather than reads from the shader folder (chapter 19's
+// scene code): `#include "name"` takes the text of `name` from here first. They do not
+// change while the program runs, so hot reload does not watch them.
+using GeneratedFiles = std::map<std::string, std::string>;
+
 // Throws Failure(GlProblem) naming the file (and the #include line) that is missing,
 // empty, without #version, or included in a cycle. `filesRead`, when given, gets every
 // file the preprocessor opened, in order, even when it fails: a missing or empty
 // #include is worth watching too.
 ShaderSource loadShaderSource(const std::string& shaderDir, const std::string& fileName,
-                              std::vector<ShaderFile>* filesRead = nullptr);
+                              std::vector<ShaderFile>* filesRead = nullptr,
+                              const GeneratedFiles& generated = {});
 
 // The whole file as bytes, or none when it cannot be read.
 std::optional<std::string> readShaderFile(const std::string& path);

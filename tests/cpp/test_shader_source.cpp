@@ -63,6 +63,34 @@ TEST(ShaderSource, NestedIncludesAndCrlf) {
                            "#line 10002 1\nfloat a;\n#line 3 0\nvoid main() {}\n");
 }
 
+TEST(ShaderSource, GeneratedFilesComeFirstAreNamedSoAndAreNotWatched) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"scene_code.glsl\"\nvoid main() {}\n");
+    shaders.write("scene_code.glsl", "float onDisk;\n");  // the generated text wins
+    std::vector<course::ShaderFile> read;
+    course::ShaderSource source = course::loadShaderSource(
+        shaders.folder.string(), "main.comp", &read, {{"scene_code.glsl", "float made;\n"}});
+    EXPECT_EQ(source.text, "#version 430\n#line 10001 1\nfloat made;\n#line 3 0\n"
+                           "void main() {}\n");
+    ASSERT_EQ(source.shownPaths.size(), 2u);
+    EXPECT_EQ(source.shownPaths[1], "shaders/99_test/scene_code.glsl (generated)");
+    ASSERT_EQ(read.size(), 1u);  // main.comp only: hot reload has nothing to re-read
+    EXPECT_EQ(read[0].shownPath, "shaders/99_test/main.comp");
+}
+
+TEST(ShaderSource, AnEmptyGeneratedFileIsAnError) {
+    ShaderFolder shaders;
+    shaders.write("main.comp", "#version 430\n#include \"made.glsl\"\n");
+    std::string message = failureOf(
+        [&] {
+            course::loadShaderSource(shaders.folder.string(), "main.comp", nullptr,
+                                     {{"made.glsl", "\n"}});
+        },
+        ExitCode::GlProblem);
+    EXPECT_NE(message.find("made.glsl (generated): shader file is empty"), std::string::npos)
+        << message;
+}
+
 TEST(ShaderSource, MissingIncludeNamesTheIncludingLine) {
     ShaderFolder shaders;
     shaders.write("main.comp", "#version 430\n\n#include \"missing.glsl\"\n");
