@@ -76,6 +76,41 @@ void GpuBuffer::read(void* data, size_t bytes, size_t offset) const {
                        static_cast<GLsizeiptr>(bytes), data);
 }
 
+BufferTexture::BufferTexture(const GpuBuffer& buffer, const std::string& what) {
+    GLint maxTexels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+    const size_t texels = buffer.bytes() / 16;
+    if (texels > size_t(maxTexels))
+        fail(ExitCode::GlProblem, what + " needs " + std::to_string(texels) +
+                                      " texels, but this GL's buffer textures hold at most " +
+                                      std::to_string(maxTexels) + " (GL_MAX_TEXTURE_BUFFER_SIZE)");
+    glGenTextures(1, &id_);
+    glBindTexture(GL_TEXTURE_BUFFER, id_);
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer.id());
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+}
+
+BufferTexture::~BufferTexture() {
+    if (id_) glDeleteTextures(1, &id_);
+}
+
+BufferTexture::BufferTexture(BufferTexture&& other) noexcept
+    : id_(std::exchange(other.id_, 0)) {}
+
+BufferTexture& BufferTexture::operator=(BufferTexture&& other) noexcept {
+    if (this != &other) {
+        if (id_) glDeleteTextures(1, &id_);
+        id_ = std::exchange(other.id_, 0);
+    }
+    return *this;
+}
+
+void BufferTexture::bind(GLuint unit) const {
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glBindTexture(GL_TEXTURE_BUFFER, id_);
+    glActiveTexture(GL_TEXTURE0);
+}
+
 ImageBuffer::ImageBuffer(int width, int height)
     : width(width), height(height),
       pixels(size_t(width) * size_t(height) * 4 * sizeof(float)) {}

@@ -3,6 +3,7 @@
 // allows, so a too-large scene fails with a message instead of a black picture.
 #pragma once
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "course/gl.h"
@@ -45,6 +46,28 @@ private:
                    const char* limitName) const;
     GLuint id_ = 0;
     size_t bytes_ = 0;
+};
+
+// A buffer seen as a row of texels by a `samplerBuffer` (texelFetch): a buffer texture.
+// It views the buffer's own bytes, so the same buffer can be a storage buffer too.
+// RGBA32F: 16 bytes a texel, so a std430 struct whose size is a multiple of 16 is a
+// whole number of texels (uints inside come back through floatBitsToUint). More
+// texels than the GL's GL_MAX_TEXTURE_BUFFER_SIZE is exit code 4, naming `what`.
+class BufferTexture {
+public:
+    BufferTexture() = default;
+    BufferTexture(const GpuBuffer& buffer, const std::string& what);
+    ~BufferTexture();
+    BufferTexture(BufferTexture&& other) noexcept;
+    BufferTexture& operator=(BufferTexture&& other) noexcept;
+    BufferTexture(const BufferTexture&) = delete;
+    BufferTexture& operator=(const BufferTexture&) = delete;
+
+    // Makes it the texture of `layout(binding = unit) uniform samplerBuffer`.
+    void bind(GLuint unit) const;
+
+private:
+    GLuint id_ = 0;
 };
 
 // The image every ray-tracing chapter renders into: one linear RGBA vec4 per pixel,

@@ -1,0 +1,51 @@
+// Specialisation: the host writes part of the shader for the scene it is about to
+// render, scene_code.glsl, which path.comp includes. It holds the scene's counts, the
+// features it uses (material kinds, textures, environment, triangles) as numbers the
+// compiler folds, and which way the shaders read the scene (scene_memory.glsl); for a
+// small scene, the scene itself as constant arrays.
+#pragma once
+#include <string>
+
+#include "course/cli.h"
+#include "course/stats.h"
+#include "gpu_scene.h"
+
+// The limits of writing a scene into the shader. Past them, the constants would make
+// a shader that llvmpipe compiles slowly and runs no faster than a loop over a buffer
+// texture, which the automatic choice takes instead (measured: the speed chapter's
+// page, ./course bench speed).
+constexpr size_t kMostShapesInCode = 64;     // spheres and quads
+constexpr size_t kMostMaterialsInCode = 64;
+constexpr size_t kMostEmittersInCode = 64;
+
+// How the shaders read the scene, from the command line.
+struct SceneCodeOptions {
+    std::string sceneMemory = "auto";  // --scene-memory: auto, storage, uniform, texture,
+                                       // constants
+    std::string bvhMemory = "texture";  // --bvh-memory: storage or texture
+    bool generic = false;  // --generic: one shader for every scene, as chapter 18's
+};
+void declareSceneCodeOptions(course::CommandLine& cli, SceneCodeOptions& options);
+
+// What was chosen: MEMORY_STORAGE, _UNIFORM, _TEXTURE or _CONSTANTS (shared.h).
+struct SceneCodeChoice {
+    int sceneMemory = MEMORY_STORAGE;
+    int bvhMemory = MEMORY_TEXTURE;
+    bool specialised = true;
+};
+
+// Resolves "auto" (constants within the limits above, else buffer textures) and checks
+// a choice made by hand: constants past the limits, or uniform blocks larger than the
+// GL allows, are exit code 2, naming the scene file.
+SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene& scene,
+                                const std::string& scenePath);
+
+// The text of scene_code.glsl for this scene. `hasEnvironment`: an environment map
+// lights it.
+std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
+                           bool hasEnvironment);
+
+// "constants", "texture", ...: for --json and messages.
+std::string memoryName(int memory);
+// The choice in --json: scene_memory, bvh_memory, specialised.
+void recordSceneCode(const SceneCodeChoice& choice, course::Stats& stats);
