@@ -108,6 +108,9 @@ void buildTree(GpuScene& gpu, const BvhOptions& options) {
     for (uint32_t input : gpu.bvh.triangleOrder) {
         leafPosition[input] = uint32_t(gpu.triangles.size());
         gpu.triangles.push_back(inputOrder[input]);
+        for (uint32_t corner : {inputOrder[input].corners.x, inputOrder[input].corners.y,
+                                inputOrder[input].corners.z})
+            gpu.leafCorners.push_back(gpu.positions[corner]);
     }
     for (gpu::Emitter& emitter : gpu.emitters)
         if (emitter.shape == SHAPE_TRIANGLE) emitter.index = leafPosition[emitter.index];
@@ -201,7 +204,8 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
                          GpuBuffer::fromVector(scene.uvs),
                          GpuBuffer::fromVector(scene.textures),
                          GpuBuffer::fromVector(scene.texels),
-                         GpuBuffer::fromVector(environmentCdf)};
+                         GpuBuffer::fromVector(environmentCdf),
+                         GpuBuffer::fromVector(scene.leafCorners)};
     buffers.spheres.bindStorage(SPHERES_BINDING);
     buffers.quads.bindStorage(QUADS_BINDING);
     buffers.triangles.bindStorage(TRIANGLES_BINDING);
@@ -214,6 +218,7 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
     buffers.textures.bindStorage(TEXTURES_BINDING);
     buffers.texels.bindStorage(TEXELS_BINDING);
     buffers.environmentCdf.bindStorage(ENVIRONMENT_CDF_BINDING);
+    buffers.leafCorners.bindStorage(LEAF_CORNERS_BINDING);
 
     // --8<-- [start:views]
     // The other ways to read the same arrays (scene_memory.glsl): a buffer texture is a
@@ -231,6 +236,7 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
         view(buffers.triangles, "the triangles", TRIANGLES_UNIT);
         view(buffers.positions, "the triangles' corners", POSITIONS_UNIT);
         view(buffers.bvhNodes, "the tree", BVH_NODES_UNIT);
+        view(buffers.leafCorners, "the triangles' corners in leaf order", LEAF_CORNERS_UNIT);
     }
     if (sceneMemory == MEMORY_UNIFORM) {
         buffers.uniformBlocks.push_back(uniformBlock(scene.spheres, SPHERES_BLOCK_BINDING));

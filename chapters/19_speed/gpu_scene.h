@@ -19,6 +19,7 @@ struct GpuScene {
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;
     std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
+    std::vector<glm::vec4> leafCorners;  // each triangle's 3 corners, in leaf order
     std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
     std::vector<glm::vec2> uvs;        // the corners' texture coordinates (OBJ vt)
     std::vector<gpu::Material> materials;
@@ -44,7 +45,7 @@ GpuScene packScene(const course::SceneFile& scene, const BvhOptions& bvhOptions 
 // (scene_code.h), buffer textures over some of them or uniform blocks.
 struct SceneBuffers {
     course::GpuBuffer spheres, quads, triangles, positions, normals, materials, emitters,
-        bvhNodes, uvs, textures, texels, environmentCdf;
+        bvhNodes, uvs, textures, texels, environmentCdf, leafCorners;
     std::vector<course::BufferTexture> bufferTextures;
     std::vector<course::GpuBuffer> uniformBlocks;
 };

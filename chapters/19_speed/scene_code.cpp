@@ -60,6 +60,14 @@ std::string constantArray(const char* type, const char* name, const std::vector<
         text += "    " + literal(written[i]) + (i + 1 < written.size() ? ",\n" : ");\n");
     return text;
 }
+
+// `#define FOR_EACH_QUAD(TEST) TEST(0) TEST(1) ...`: each shape's test written out
+// (scene.glsl).
+std::string forEach(const char* name, size_t count) {
+    std::string text = std::string("#define ") + name + "(TEST)";
+    for (size_t i = 0; i < count; ++i) text += " TEST(" + std::to_string(i) + ")";
+    return text + "\n";
+}
 // --8<-- [end:array]
 
 int memoryCode(const std::string& name) {
@@ -155,7 +163,9 @@ std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
         code << constantArray("Sphere", "SCENE_SPHERES", scene.spheres)
              << constantArray("Quad", "SCENE_QUADS", scene.quads)
              << constantArray("Material", "SCENE_MATERIALS", scene.materials)
-             << constantArray("Emitter", "SCENE_EMITTERS", scene.emitters);
+             << constantArray("Emitter", "SCENE_EMITTERS", scene.emitters)
+             << forEach("FOR_EACH_SPHERE", scene.spheres.size())
+             << forEach("FOR_EACH_QUAD", scene.quads.size());
     return code.str();
 }
 // --8<-- [end:write]

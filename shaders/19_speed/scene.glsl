@@ -67,7 +67,10 @@ bool hitQuad(Ray ray, Quad quad, float tMin, float tMax, out float t, out vec2 a
 // What bvh_traversal.glsl asks for: triangle `index` of the buffer, which the host
 // filled in the tree's leaf order, and where on it (uv, for the smooth normal).
 bool hitTriangle(Ray ray, uint index, float tMin, float tMax, out float t, out vec2 uv) {
-    return hitTriangle(ray, cornersOf(triangleAt(index)), tMin, tMax, t, uv);
+    // Its corners from the copy in leaf order: three reads, no indices to follow.
+    Corners corners = Corners(leafCornerAt(3u * index), leafCornerAt(3u * index + 1u),
+                              leafCornerAt(3u * index + 2u));
+    return hitTriangle(ray, corners, tMin, tMax, t, uv);
 }
 #if HAS_TRIANGLES
 #include "bvh_traversal.glsl"
@@ -87,12 +90,34 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter, vec
                dot(normal, ray.direction) < 0.0, material, emitter, uv);
 }
 
+// --8<-- [start:written_out]
+// A scene in constants (MEMORY_CONSTANTS) has each shape's test written out, not
+// looped: FOR_EACH_QUAD(TEST), from scene_code.glsl, is TEST(0) TEST(1) ... With its
+// index a number, each test reads its own shape's constants, and the compiler folds
+// what depends on them alone (a quad's normal, its dual vectors) into numbers.
+#define NEAREST_SPHERE(i) if (hitSphere(ray, SCENE_SPHERES[i], tMin, tMax, t)) { \
+        tMax = t; kind = SHAPE_SPHERE; index = i; }
+#define NEAREST_QUAD(i) if (hitQuad(ray, SCENE_QUADS[i], tMin, tMax, t, ab)) { \
+        tMax = t; kind = SHAPE_QUAD; index = i; hitAb = ab; }
+// A shadow ray: no return inside the tests. Each return would put every test after it
+// in an else branch, nested as deep as the scene has shapes, and llvmpipe draws wrong
+// pictures past some depth; one test after the other, each skipped once blocked, is flat.
+#define ANY_SPHERE(i) if (!blocked && hitSphere(ray, SCENE_SPHERES[i], tMin, tMax, t)) \
+        blocked = true;
+#define ANY_QUAD(i) if (!blocked && hitQuad(ray, SCENE_QUADS[i], tMin, tMax, t, ab)) \
+        blocked = true;
+// --8<-- [end:written_out]
+
 // --8<-- [start:nearest]
 // The nearest surface along the ray, between tMin and tMax.
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
     int kind = -1, index = 0;
     float t;
     vec2 barycentric, hitBarycentric, ab, hitAb;
+#if SCENE_MEMORY == MEMORY_CONSTANTS
+    FOR_EACH_SPHERE(NEAREST_SPHERE)
+    FOR_EACH_QUAD(NEAREST_QUAD)
+#else
     for (int i = 0; i < SPHERE_COUNT; ++i)
         if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) {
             tMax = t; kind = SHAPE_SPHERE; index = i;
@@ -101,6 +126,7 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
         if (hitQuad(ray, quadAt(i), tMin, tMax, t, ab)) {
             tMax = t; kind = SHAPE_QUAD; index = i; hitAb = ab;
         }
+#endif
     // The triangles: the tree finds the nearest one nearer than tMax (the nearest
     // sphere or quad so far), or brute force tries them all.
 #if HAS_TRIANGLES
@@ -136,10 +162,17 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 bool anyHit(Ray ray, float tMin, float tMax) {
     float t;
     vec2 barycentric, ab;
+#if SCENE_MEMORY == MEMORY_CONSTANTS
+    bool blocked = false;
+    FOR_EACH_SPHERE(ANY_SPHERE)
+    FOR_EACH_QUAD(ANY_QUAD)
+    if (blocked) return true;
+#else
     for (int i = 0; i < SPHERE_COUNT; ++i)
         if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) return true;
     for (int i = 0; i < QUAD_COUNT; ++i)
         if (hitQuad(ray, quadAt(i), tMin, tMax, t, ab)) return true;
+#endif
 #if HAS_TRIANGLES
     if (bruteForce == 0u) return bvhAnyHit(ray, tMin, tMax);
     for (int i = 0; i < TRIANGLE_COUNT; ++i)

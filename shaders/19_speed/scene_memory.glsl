@@ -4,7 +4,7 @@
 // spheres, quads, materials, emitters) and which the tree takes (BVH_MEMORY: its
 // nodes, the triangles and their corners). Everything else reads what it needs through
 // the functions below: sphereAt(i), quadAt(i), materialAt(i), emitterAt(i),
-// triangleAt(i), positionAt(i) and bvhNodeAt(i).
+// triangleAt(i), positionAt(i), leafCornerAt(i) and bvhNodeAt(i).
 //
 //   MEMORY_STORAGE    storage buffers, as chapters 02-18 read everything
 //   MEMORY_UNIFORM    uniform blocks: fixed-size arrays, small (GL_MAX_UNIFORM_BLOCK_SIZE)
@@ -93,13 +93,18 @@ layout(std430, binding = TRIANGLES_BINDING) readonly buffer Triangles {
 };
 layout(std430, binding = POSITIONS_BINDING) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = BVH_NODES_BINDING) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
+layout(std430, binding = LEAF_CORNERS_BINDING) readonly buffer LeafCorners {
+    vec4 leafCorners[];
+};
 Triangle triangleAt(uint i) { return triangles[i]; }
+vec3 leafCornerAt(uint i) { return leafCorners[i].xyz; }
 vec3 positionAt(uint i) { return positions[i].xyz; }
 BvhNode bvhNodeAt(uint i) { return bvhNodes[i]; }
 #else
 layout(binding = TRIANGLES_UNIT) uniform samplerBuffer triangleTexels;  // 3 texels each
 layout(binding = POSITIONS_UNIT) uniform samplerBuffer positionTexels;  // 1 texel each
 layout(binding = BVH_NODES_UNIT) uniform samplerBuffer bvhNodeTexels;   // 4 texels each
+layout(binding = LEAF_CORNERS_UNIT) uniform samplerBuffer leafCornerTexels;  // 3 each
 Triangle triangleAt(uint i) {
     int at = 3 * int(i);
     uvec4 a = bitsAt(triangleTexels, at), b = bitsAt(triangleTexels, at + 1);
@@ -107,6 +112,7 @@ Triangle triangleAt(uint i) {
     return Triangle(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w);
 }
 vec3 positionAt(uint i) { return texelFetch(positionTexels, int(i)).xyz; }
+vec3 leafCornerAt(uint i) { return texelFetch(leafCornerTexels, int(i)).xyz; }
 BvhNode bvhNodeAt(uint i) {
     int at = 4 * int(i);
     vec4 a = texelFetch(bvhNodeTexels, at), b = texelFetch(bvhNodeTexels, at + 1);
