@@ -218,7 +218,6 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
     buffers.textures.bindStorage(TEXTURES_BINDING);
     buffers.texels.bindStorage(TEXELS_BINDING);
     buffers.environmentCdf.bindStorage(ENVIRONMENT_CDF_BINDING);
-    buffers.leafCorners.bindStorage(LEAF_CORNERS_BINDING);
 
     // --8<-- [start:views]
     // The other ways to read the same arrays (scene_memory.glsl): a buffer texture is a

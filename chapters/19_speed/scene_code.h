@@ -10,11 +10,12 @@
 #include "course/stats.h"
 #include "gpu_scene.h"
 
-// The limits of writing a scene into the shader. Past them, the constants would make
-// a shader that llvmpipe compiles slowly and runs no faster than a loop over a buffer
-// texture, which the automatic choice takes instead (measured: the speed chapter's
-// page, ./course bench speed).
-constexpr size_t kMostShapesInCode = 64;     // spheres and quads
+// The limits of writing a scene into the shader. Each shape written out costs compile
+// time (llvmpipe: about 0.15 s a shape) and saves less the more there are (the Cornell
+// box's 18 quads run 1.7x faster than through buffer textures, 56 spheres and quads
+// 1.1x): past these, the automatic choice reads the scene through buffer textures
+// instead (measured by ./course bench speed; the chapter's page).
+constexpr size_t kMostShapesInCode = 32;     // spheres and quads
 constexpr size_t kMostMaterialsInCode = 64;
 constexpr size_t kMostEmittersInCode = 64;
 

@@ -27,8 +27,6 @@
 #define ENVIRONMENT_CDF_BINDING 16  // the environment's sampling tables (environment.cpp);
                                     // 15 is the window's (course/display.h)
 #define DISPLAY_BINDING 17   // the image as the eye sees it: exposed, tone mapped (display.comp)
-#define LEAF_CORNERS_BINDING 18  // each triangle's 3 corners again, in the tree's leaf
-                                 // order: what the traversal tests, without indices
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
@@ -50,7 +48,8 @@
 #define TRIANGLES_UNIT 5
 #define POSITIONS_UNIT 6
 #define BVH_NODES_UNIT 7
-#define LEAF_CORNERS_UNIT 8
+#define LEAF_CORNERS_UNIT 8  // each triangle's 3 corners again, in the tree's leaf
+                             // order: what the traversal tests, without indices
 // --8<-- [end:memory]
 
 // What the image shows (--view). Everything but the radiance uses one ray through each
