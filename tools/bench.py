@@ -52,6 +52,7 @@ class Scene:
     name: str      # its file in assets/scenes, without .scene
     title: str     # how the tables call it
     binary: Path   # build/bin/NN_chapter
+    key: str = ""  # its key in the report (default: name)
 
     @property
     def path(self) -> Path:
@@ -236,8 +237,8 @@ def bench(scenes: list[Scene], settings: Settings, variants=VARIANTS,
                            "repeat": settings.repeat},
               "scenes": {}}
     for scene in scenes:
-        report["scenes"][scene.name], stats = measure_scene(scene, settings, variants,
-                                                            mesh_folders)
+        report["scenes"][scene.key or scene.name], stats = measure_scene(
+            scene, settings, variants, mesh_folders)
         report.setdefault("machine", bench_common.describe_machine(stats))
     report["quiet"] = watch.finish()
     return report

@@ -530,6 +530,13 @@ def cmd_bench(args):
         import bench_bvh
         status |= bench_bvh.main(binary(find_chapter("14")), BUILD / "assets" / "meshes",
                                  args.repeat, update_book=args.update_book)
+    if args.which in ("all", "speed"):
+        import bench_speed
+        speed = [find_chapter("18"), find_chapter("19")]
+        build(speed)
+        settings = bench_speed.Settings(args.size, args.speed_spp, args.depth, args.repeat)
+        status |= bench_speed.main({name[:2]: binary(name) for name in speed}, settings,
+                                   update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \
@@ -544,13 +551,16 @@ def cmd_bench(args):
 
 
 def bench_against_mitsuba(args) -> int:
-    """The Cornell box through chapter 12, the teapot through the newest chapter with a
-    BVH, each against Mitsuba 3 (tools/bench.py)."""
+    """The Cornell box through chapter 12 and through the newest chapter, the teapot
+    through the newest chapter with a BVH, each against Mitsuba 3 (tools/bench.py)."""
     import bench
     with_bvh = bench.newest_chapter_with_bvh(chapters())
     box_chapter = find_chapter("12")
-    build([box_chapter, with_bvh])
+    newest = [c for c in chapters() if c[:2].isdigit()][-1]
+    build([box_chapter, with_bvh, newest])
     scenes = [bench.Scene("cornell_box", "Cornell box", binary(box_chapter)),
+              bench.Scene("cornell_box", "Cornell box, newest chapter", binary(newest),
+                          key="cornell_box_newest"),
               bench.Scene("cornell_teapot", "teapot (6 320 triangles)",
                           binary(with_bvh))]
     settings = bench.Settings(args.size, args.spp, args.depth, args.repeat)
@@ -708,11 +718,13 @@ def main():
         "range of the runs, names the machine (CPU, cores, Mesa, LLVM, Mitsuba) and warns "
         "when it was busy (1-minute load above 0.3 per core). Prints the tables and "
         "writes build/bench/*.json; the book's pages change only with --update-book.")
-    bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "grading"],
-                       default="all", help="which benchmark (default: mitsuba and bvh; "
-                       "mitsuba: the Cornell box through chapter 12 and the teapot through "
-                       "the newest chapter with a BVH, ours and Mitsuba's runs taking turns; "
-                       "grading: one submission of each chapter on one core)")
+    bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "grading"],
+                       default="all", help="which benchmark (default: mitsuba, bvh and speed; "
+                       "mitsuba: the Cornell box through chapter 12 and the newest chapter, "
+                       "the teapot through the newest chapter with a BVH, ours and Mitsuba's "
+                       "runs taking turns; speed: chapter 19's ways of reading the scene "
+                       "against chapter 18; grading: one submission of each chapter on one "
+                       "core)")
     bench.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     bench.add_argument("--repeat", type=int, default=3,
                        help="runs of each figure (gradings per chapter): the median and the "
@@ -724,6 +736,8 @@ def main():
                        help="mitsuba: image side (default 256)")
     bench.add_argument("--spp", type=int, default=128, help="mitsuba: samples per pixel (128)")
     bench.add_argument("--depth", type=int, default=6, help="mitsuba: bounces (default 6)")
+    bench.add_argument("--speed-spp", type=int, default=32,
+                       help="speed: samples per pixel (32)")
 
     release = verbs.add_parser("release", help="write a student starter for a chapter",
                                description="Copies the checkpoint with every BEGIN/END "

@@ -279,6 +279,21 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the sky showcase", 3, TINY, "statistical", "after_due_date",
                   sampling=PATH_SAMPLING),
     ],
+    # Chapter 19's exercises read a quad and a tree node back out of a buffer texture's
+    # texels (scene_memory.glsl). What they read is all in the views that trace one ray
+    # through each pixel's centre without random numbers: deterministic pictures, so
+    # compared with the solution's as images. The room's quads, read wrong, lose every
+    # wall; the teapot's tree, every triangle; the showcase's albedos, after the due date.
+    "19": [
+        GradeTest("the room's quads from a buffer texture", 5,
+                  [*SMALL, "--scene", "cornell_box", "--scene-memory", "texture",
+                   "--view", "normals"]),
+        GradeTest("the teapot's tree from a buffer texture", 3,
+                  [*SMALL, "--scene", "cornell_teapot", "--bvh-memory", "texture",
+                   "--view", "normals"]),
+        GradeTest("the showcase's albedos", 2, [*SMALL, "--view", "albedo"], "image",
+                  "after_due_date"),
+    ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
     # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);

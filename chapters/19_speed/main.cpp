@@ -73,10 +73,9 @@ int main(int argc, char** argv) {
                                         : "Fewer spheres and quads, or a lower --depth, fit.";
         course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
                                  2 * rounds, wayOut});
-
         // --8<-- [start:scene_code]
-        // 2. The shader's part written for this scene (scene_code.glsl), and how it
-        //    reads the scene: constants for a small scene, buffer textures otherwise.
+        // The shader's part written for this scene (scene_code.glsl), and how it reads
+        // the scene: constants for a small scene, buffer textures otherwise.
         SceneCodeChoice choice = chooseSceneCode(codeOptions, scene, sceneFile.path);
         std::string sceneCode =
             writeSceneCode(scene, choice, environment.distributions.size() > 0);
@@ -84,9 +83,9 @@ int main(int argc, char** argv) {
         // --8<-- [end:scene_code]
 
         // --8<-- [start:upload]
-        // 3. Buffers: the scene (chapter 18's, read as the scene code says; bound by
-        //    uploadScene), the image (the running mean), each pixel's random number
-        //    state and ray count.
+        // 2. Storage buffers: the scene (chapter 17's, and the environment's tables; each
+        //    bound by uploadScene, and seen as the scene code says), the image (the
+        //    running mean), each pixel's random number state and ray count.
         SceneBuffers sceneBuffers = uploadScene(scene, environment.distributions,
                                                 choice.sceneMemory, choice.bvhMemory);
         course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
@@ -100,7 +99,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:upload]
 
         // --8<-- [start:dispatch]
-        // 4. Chapter 09's seeding and progressive loop, with the path tracer as the
+        // 3. Chapter 09's seeding and progressive loop, with the path tracer as the
         //    sample. What a dispatch reads besides the buffers is one uniform block,
         //    gpu::PathParameters (shared.h), written before each dispatch: the sample
         //    count grows, and the fly camera may have moved.
@@ -148,7 +147,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:dispatch]
 
         // --8<-- [start:display]
-        // 5. What the eye sees: display.comp exposes and tone maps the running mean into
+        // 4. What the eye sees: display.comp exposes and tone maps the running mean into
         //    a second image, which the window shows and a PNG holds (sRGB-encoded); a
         //    PFM or EXR holds the radiance itself.
         course::ShaderProgram& toDisplay = session.loadCompute("display.comp");
@@ -160,11 +159,11 @@ int main(int argc, char** argv) {
         });
         // --8<-- [end:display]
 
-        // 6. Render --spp samples; headless, write the image.
+        // 5. Render --spp samples; headless, write the image.
         session.timeRender(render);
 
         // --8<-- [start:window]
-        // 7. Window: one more sample each frame; moving the camera starts over; - and =
+        // 6. Window: one more sample each frame; moving the camera starts over; - and =
         //    change the exposure by half a stop, T the tone mapping.
         glm::dvec2 lastCursor(-1.0);
         course::KeyPresses keys;
@@ -183,7 +182,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:window]
         session.finish(image, render, eachFrame);
 
-        // 8. Statistics: every ray traced (camera, bounce, shadow), the GPU's own time.
+        // 6. Statistics: every ray the shader traced (camera, bounce and shadow rays).
         std::vector<uint32_t> counts = rayCounts.readAll<uint32_t>();
         double rays = std::accumulate(counts.begin(), counts.end(), 0.0);
         double seconds = session.stats().number("wall_ms") / 1000.0;

@@ -77,10 +77,10 @@ int memoryCode(const std::string& name) {
                                : MEMORY_CONSTANTS;
 }
 
-bool fitsInCode(const GpuScene& scene) {
-    return scene.spheres.size() + scene.quads.size() <= kMostShapesInCode &&
-           scene.materials.size() <= kMostMaterialsInCode &&
-           scene.emitters.size() <= kMostEmittersInCode;
+bool fitsInCode(const GpuScene& scene, size_t times = 1) {
+    return scene.spheres.size() + scene.quads.size() <= times * kMostShapesInCode &&
+           scene.materials.size() <= times * kMostMaterialsInCode &&
+           scene.emitters.size() <= times * kMostEmittersInCode;
 }
 
 }  // namespace
@@ -116,12 +116,13 @@ SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene&
                            true};
     if (options.sceneMemory == "auto")
         choice.sceneMemory = fitsInCode(scene) ? MEMORY_CONSTANTS : MEMORY_TEXTURE;
-    if (choice.sceneMemory == MEMORY_CONSTANTS && !fitsInCode(scene))
+    const size_t most = kMostInCodeByHand;
+    if (choice.sceneMemory == MEMORY_CONSTANTS && !fitsInCode(scene, most))
         course::fail(course::ExitCode::BadUsage,
                      scenePath + ": too large to write into the shader (--scene-memory "
-                     "constants takes at most " + std::to_string(kMostShapesInCode) +
-                     " spheres and quads, " + std::to_string(kMostMaterialsInCode) +
-                     " materials and " + std::to_string(kMostEmittersInCode) +
+                     "constants takes at most " + std::to_string(most * kMostShapesInCode) +
+                     " spheres and quads, " + std::to_string(most * kMostMaterialsInCode) +
+                     " materials and " + std::to_string(most * kMostEmittersInCode) +
                      " emitters); --scene-memory texture reads any size");
     return choice;
 }

@@ -10,14 +10,19 @@
 #include "course/stats.h"
 #include "gpu_scene.h"
 
+// --8<-- [start:limits]
 // The limits of writing a scene into the shader. Each shape written out costs compile
-// time (llvmpipe: about 0.15 s a shape) and saves less the more there are (the Cornell
+// time (llvmpipe: 0.1 to 0.15 s a shape) and saves less the more there are (the Cornell
 // box's 18 quads run 1.7x faster than through buffer textures, 56 spheres and quads
 // 1.1x): past these, the automatic choice reads the scene through buffer textures
 // instead (measured by ./course bench speed; the chapter's page).
 constexpr size_t kMostShapesInCode = 32;     // spheres and quads
 constexpr size_t kMostMaterialsInCode = 64;
 constexpr size_t kMostEmittersInCode = 64;
+// By hand (--scene-memory constants), up to four times as many: beyond, the shader
+// would take minutes to compile.
+constexpr size_t kMostInCodeByHand = 4;
+// --8<-- [end:limits]
 
 // How the shaders read the scene, from the command line.
 struct SceneCodeOptions {
@@ -36,8 +41,9 @@ struct SceneCodeChoice {
 };
 
 // Resolves "auto" (constants within the limits above, else buffer textures) and checks
-// a choice made by hand: constants past the limits, or uniform blocks larger than the
-// GL allows, are exit code 2, naming the scene file.
+// a choice made by hand: constants past kMostInCodeByHand times the limits is exit
+// code 2, naming the scene file. (Uniform blocks larger than the GL allows are exit
+// code 4, when they are bound.)
 SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene& scene,
                                 const std::string& scenePath);
 

@@ -61,9 +61,12 @@ Sphere sphereAt(int i) {
     return Sphere(a.xyz, a.w, b.x, b.y, 0u, 0u);
 }
 Quad quadAt(int i) {
+    // BEGIN SOLUTION quad i's three texels: origin and material, edge1 and emitter, edge2
     vec4 a = texelFetch(quadTexels, 3 * i), b = texelFetch(quadTexels, 3 * i + 1);
     vec4 c = texelFetch(quadTexels, 3 * i + 2);
     return Quad(a.xyz, floatBitsToUint(a.w), b.xyz, floatBitsToUint(b.w), c.xyz, 0u);
+    // STUB: return Quad(vec3(0.0), 0u, vec3(0.0), NO_EMITTER, vec3(0.0), 0u);  // nothing
+    // END SOLUTION
 }
 Material materialAt(uint i) {
     int at = 4 * int(i);
@@ -113,11 +116,14 @@ Triangle triangleAt(uint i) {
 vec3 positionAt(uint i) { return texelFetch(positionTexels, int(i)).xyz; }
 vec3 leafCornerAt(uint i) { return texelFetch(leafCornerTexels, int(i)).xyz; }
 BvhNode bvhNodeAt(uint i) {
+    // BEGIN SOLUTION node i's four texels: each child's box corners, index and count
     int at = 4 * int(i);
     vec4 a = texelFetch(bvhNodeTexels, at), b = texelFetch(bvhNodeTexels, at + 1);
     vec4 c = texelFetch(bvhNodeTexels, at + 2), d = texelFetch(bvhNodeTexels, at + 3);
     return BvhNode(a.xyz, floatBitsToUint(a.w), b.xyz, floatBitsToUint(b.w),
                    c.xyz, floatBitsToUint(c.w), d.xyz, floatBitsToUint(d.w));
+    // STUB: return BvhNode(vec3(1.0), 0u, vec3(-1.0), 0u, vec3(1.0), 0u, vec3(-1.0), 0u);
+    // END SOLUTION
 }
 #endif
 // --8<-- [end:tree]

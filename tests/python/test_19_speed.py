@@ -17,7 +17,8 @@ against Mitsuba 3 directly.
 - The comparison catches a wrong path: a planted mistake in one way of reading the
   spheres fails it.
 - The choice: constants for a scene within the limits (scene_code.h), buffer textures
-  past them; constants by hand past them is exit code 2, naming the scene file.
+  past them; constants by hand past four times them is exit code 2, naming the scene
+  file.
 - A scene at the limit (32 shapes, each test written out) and a large one (300 spheres
   through buffer textures) draw the generic shader's picture: the written-out tests
   nest no deeper with more shapes (shadow rays do not return from inside them).
@@ -101,11 +102,12 @@ def test_the_choice_is_automatic_and_a_scene_too_large_for_constants_is_refused(
     assert showcase["scene_memory"] == "texture" and showcase["bvh_memory"] == "texture"
     generic = stats(tmp_path, "--scene", "cornell_box", "--generic")
     assert generic["scene_memory"] == "storage" and generic["specialised"] == 0
-    result = run_chapter("19", "--headless", "--scene", "showcase", "--scene-memory",
+    large = spheres_scene(tmp_path / "large.scene", 200)
+    result = run_chapter("19", "--headless", "--scene", large, "--scene-memory",
                          "constants", "--out", tmp_path / "never.png")
     assert result.returncode == 2, result.stderr
-    assert "showcase.scene: too large to write into the shader" in result.stderr
-    assert "at most 32 spheres and quads" in result.stderr
+    assert "large.scene: too large to write into the shader" in result.stderr
+    assert "at most 128 spheres and quads" in result.stderr
     assert not (tmp_path / "never.png").exists()
 
 

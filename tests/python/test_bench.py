@@ -255,3 +255,55 @@ def test_the_bvh_bench_repeats_and_writes_the_book_only_when_asked(tiny_bvh_benc
     head, _ = before.split(bench_bvh.START, 1)
     _, tail = before.split(bench_bvh.END, 1)
     assert page.read_text().startswith(head) and page.read_text().endswith(tail)
+
+
+# ---------------------------------------------------------------- chapter 19's speed bench
+
+@pytest.fixture(scope="module")
+def tiny_speed_bench(tmp_path_factory):
+    """bench_speed with three of its rows and two compile rows, tiny, twice over: once
+    without --update-book (on a copy of the chapter's page), once with."""
+    import bench_speed
+    binaries = {"18": BIN / "18_environment", "19": BIN / "19_speed"}
+    for program in binaries.values():
+        if not program.exists():
+            pytest.skip(f"{program.name} is not built")
+    rows = [row for row in bench_speed.ROWS if row.scene == "cornell_box" and
+            row.label in ("chapter 18", "buffer textures", "constants, written out")]
+    compiled = [row for row in bench_speed.COMPILED if row.scene == "cornell_box" and
+                row.label in ("buffer textures", "chapter 18")]
+    folder = tmp_path_factory.mktemp("speed")
+    page = folder / "19_speed.md"
+    page.write_text(bench_speed.PAGE.read_text())
+    book_before, page_before = bench_speed.PAGE.read_text(), page.read_text()
+    settings = bench_speed.Settings(size=16, spp=1, depth=2, repeat=2)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bench_speed, "ROWS", tuple(rows))
+        patch.setattr(bench_speed, "COMPILED", compiled)
+        bench_speed.main(binaries, settings, update_book=False, page=page,
+                         out_folder=folder / "out")
+        unchanged = page.read_text() == page_before
+        bench_speed.main(binaries, settings, update_book=True, page=page,
+                         out_folder=folder / "out")
+    return {"report": json.loads((folder / "out" / "speed.json").read_text()),
+            "unchanged": unchanged, "page": page.read_text(),
+            "book_unchanged": bench_speed.PAGE.read_text() == book_before}
+
+
+def test_the_speed_bench_gives_medians_of_the_runs(tiny_speed_bench):
+    report = tiny_speed_bench["report"]
+    assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
+    for row in report["rows"].values():
+        for figure in ("samples_per_second", "rays_per_second"):
+            assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
+            assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
+    assert len(report["compile_seconds"]) == 2
+    automatic = [row["label"] for row in report["rows"].values() if row["chapter"] == "18"]
+    assert automatic == ["chapter 18"]
+
+
+def test_the_speed_bench_writes_its_page_only_when_asked(tiny_speed_bench):
+    assert tiny_speed_bench["unchanged"] and tiny_speed_bench["book_unchanged"]
+    page = tiny_speed_bench["page"]
+    assert "Each figure is the median of 2 runs" in page
+    assert "| cornell_box | constants, written out |" in page
