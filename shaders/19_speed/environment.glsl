@@ -60,7 +60,6 @@ float pixelPdf(uvec2 pixel, float v) {
     if (sinTheta <= 0.0) return 0.0;
     float perUv = rowChance * columnChance * float(environmentWidth * environmentHeight);
     return perUv / (2.0 * PI * PI * sinTheta);
-    // STUB: return 1.0 / (4.0 * PI);  // uniform over the sphere: not what the tables pick
 }
 
 float environmentPdf(vec3 direction) {
@@ -81,7 +80,6 @@ vec2 findStep(uint start, uint count, float u) {
     float below = environmentCdf[start + low], above = environmentCdf[start + low + 1u];
     float along = above > below ? (u - below) / (above - below) : 0.5;
     return vec2(float(low), clamp(along, 0.0, 1.0));
-    // STUB: return vec2(floor(u * float(count)), fract(u * float(count)));  // equal steps
 }
 
 // A direction towards the environment, chosen in proportion to its pixels' weights:
