@@ -12,10 +12,10 @@
 
 // --8<-- [start:limits]
 // The limits of writing a scene into the shader. Each shape written out costs compile
-// time (llvmpipe: 0.1 to 0.15 s a shape) and saves less the more there are (the Cornell
-// box's 18 quads run 1.7x faster than through buffer textures, 56 spheres and quads
-// 1.1x): past these, the automatic choice reads the scene through buffer textures
-// instead (measured by ./course bench speed; the chapter's page).
+// time (llvmpipe: 0.05 to 0.1 s a shape) and saves less the more there are (the
+// Cornell box's 18 quads run 1.6x faster than through buffer textures, the sky
+// showcase's 51 spheres and quads 1.1x): past these, the automatic choice reads the
+// scene through buffer textures instead (./course bench speed; the chapter's page).
 constexpr size_t kMostShapesInCode = 32;     // spheres and quads
 constexpr size_t kMostMaterialsInCode = 64;
 constexpr size_t kMostEmittersInCode = 64;

@@ -86,11 +86,13 @@ vec3 lightFromEnvironment(Hit hit, Material material, mat3 frame, vec3 toViewer,
 // environment, it is the light sampled instead with probability environmentChance.
 vec3 lightFromEmitters(Hit hit, Material material, mat3 frame, vec3 toViewer,
                        inout RandomState random, inout uint rays) {
+    // --8<-- [start:draw]
     // The draw is made with or without an environment, so that every way of compiling
     // the shader uses the same random numbers for the same pixel: the same picture.
     bool towardsEnvironment = random01(random) < environmentChance;
     if (HAS_ENVIRONMENT != 0 && towardsEnvironment)
         return lightFromEnvironment(hit, material, frame, toViewer, random, rays);
+    // --8<-- [end:draw]
     uint emitterCount = uint(EMITTER_COUNT);
     uint chosen = min(uint(random01(random) * float(emitterCount)), emitterCount - 1u);
     LightPoint light = sampleEmitter(emitterAt(chosen), random2(random));
