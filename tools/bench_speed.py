@@ -169,6 +169,26 @@ def table(report: dict, which: str, baseline: str) -> list[str]:
     return lines
 
 
+RATIOS = (  # (what, scene, numerator's label, denominator's label), from the tables
+    ("storage buffers ÷ buffer textures", "cornell_box", "storage buffers", "buffer textures"),
+    ("uniform blocks ÷ buffer textures", "cornell_box", "uniform blocks", "buffer textures"),
+    ("constants ÷ buffer textures", "cornell_box", "constants, written out",
+     "buffer textures"),
+    ("generic ÷ specialised, both storage buffers", "cornell_box",
+     "generic shader, storage buffers", "storage buffers"),
+)
+
+
+def ratio_rows(report: dict) -> list[str]:
+    """The ratios a learner with a GPU compares with theirs (an empty column to fill)."""
+    lines = ["| the Cornell box, samples/s | this machine | your GPU |",
+             "| --- | ---: | ---: |"]
+    for what, scene, top, bottom in RATIOS:
+        ratio = median(report, "memory", scene, top) / median(report, "memory", scene, bottom)
+        lines.append(f"| {what} | {ratio:.2f} | |")
+    return lines
+
+
 def page_table(report: dict) -> str:
     s, machine = report["settings"], report["machine"]
     heading = (f"Measured {report['date']} on {bench_common.machine_words(machine)}; "
@@ -182,7 +202,9 @@ def page_table(report: dict) -> str:
                       "Where the scene is read from, and specialisation:", "",
                       *table(report, "memory", "buffer textures"), "",
                       "The tree's nodes and triangles:", "",
-                      *table(report, "tree", "tree in storage buffers")])
+                      *table(report, "tree", "tree in storage buffers"), "",
+                      "The ratios to compare with a GPU's (the same bench there):", "",
+                      *ratio_rows(report)])
 
 
 def main(binaries: dict, settings: Settings, update_book: bool = False, page: Path = PAGE,

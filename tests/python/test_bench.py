@@ -269,7 +269,9 @@ def tiny_speed_bench(tmp_path_factory):
         if not program.exists():
             pytest.skip(f"{program.name} is not built")
     rows = [row for row in bench_speed.ROWS if row.scene == "cornell_box" and
-            row.label in ("chapter 18", "buffer textures", "constants, written out")]
+            row.label in ("chapter 18", "buffer textures", "constants, written out",
+                          "storage buffers", "uniform blocks",
+                          "generic shader, storage buffers")]
     compiled = [row for row in bench_speed.COMPILED if row.scene == "cornell_box" and
                 row.label in ("buffer textures", "chapter 18")]
     folder = tmp_path_factory.mktemp("speed")
@@ -307,3 +309,4 @@ def test_the_speed_bench_writes_its_page_only_when_asked(tiny_speed_bench):
     page = tiny_speed_bench["page"]
     assert "Each figure is the median of 2 runs" in page
     assert "| cornell_box | constants, written out |" in page
+    assert "| storage buffers ÷ buffer textures |" in page
