@@ -303,10 +303,38 @@ def sphere_distances(origin, directions, center, radius):
     return np.where((discriminant >= 0) & (t > 1e-9), t, np.inf)
 
 
+def rays_into_box(origin, directions, low, high) -> np.ndarray:
+    """Which rays (from one origin) meet the box [low, high] ahead of it: the slab test,
+    a little widened so that no ray grazing a face is lost."""
+    pad = 1e-6 * (1.0 + np.abs(high - low).max())
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0 = (low - pad - origin) / directions
+        t1 = (high + pad - origin) / directions
+    t0, t1 = np.nan_to_num(t0, nan=-np.inf), np.nan_to_num(t1, nan=np.inf)
+    near = np.minimum(t0, t1).max(axis=-1)
+    far = np.maximum(t0, t1).min(axis=-1)
+    return (near <= far) & (far > 0)
+
+
 def triangle_distances(origin, directions, corners):
-    """Nearest distance to any of the triangles (T, 3, 3), either side; inf where none."""
+    """Nearest distance to any of the triangles (T, 3, 3), either side; inf where none.
+    Only the rays that meet the triangles' bounding box are tested (a mesh covers a part
+    of the picture: the region masks of a 6 320-triangle teapot at 256² take seconds,
+    not minutes)."""
+    corners = np.asarray(corners, dtype=np.float64)
     best = np.full(directions.shape[:-1], np.inf)
-    for p0, p1, p2 in np.asarray(corners, dtype=np.float64):
+    if len(corners) == 0:
+        return best
+    inside = rays_into_box(origin, directions, corners.reshape(-1, 3).min(axis=0),
+                           corners.reshape(-1, 3).max(axis=0))
+    best[inside] = triangles_distances_all(origin, directions[inside], corners)
+    return best
+
+
+def triangles_distances_all(origin, directions, corners):
+    """triangle_distances for every ray given, without the box test."""
+    best = np.full(directions.shape[:-1], np.inf)
+    for p0, p1, p2 in corners:
         edge1, edge2 = p1 - p0, p2 - p0
         pvec = np.cross(directions, edge2)
         determinant = pvec @ edge1
