@@ -108,54 +108,53 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
     int stackSize = 0;
 
     for (;;) {
-        ++bvhLoopIterations;
-        // 1. Nothing to go on with: take the child put aside last (the nearest of those
-        //    left), unless the ray enters it behind a hit found since.
-        if (!haveCurrent) {
-            if (stackSize == 0) break;
-            --stackSize;
-            if (stackEnter[stackSize] >= t) continue;
-            current = stack[stackSize];
+        // 1. Down the tree, node after node, until the current child is a leaf or there
+        //    is none. Chapter 18 did a node or a leaf per turn of one loop: in a SIMD
+        //    group some lanes at a node and some at a leaf run both, masked. Here lanes
+        //    that reach a leaf wait for the others, and all then test their leaves
+        //    together (Aila and Laine's "while-while" traversal, 2009). A child the ray
+        //    misses, or enters only behind the nearest hit so far, is out; the nearer
+        //    goes first, the farther is put aside.
+        while (haveCurrent && current.y == 0u) {
+            ++bvhLoopIterations;
+            BvhNode node = bvhNodeAt(current.x);
+            float enterLeft = bvhEnterBox(boxRay, node.leftMin, node.leftMax, tMin, t);
+            float enterRight = bvhEnterBox(boxRay, node.rightMin, node.rightMax, tMin, t);
+            uvec2 left = uvec2(node.leftIndex, node.leftCount);
+            uvec2 right = uvec2(node.rightIndex, node.rightCount);
+            bool leftFirst = enterLeft <= enterRight;
+            uvec2 nearChild = leftFirst ? left : right, farChild = leftFirst ? right : left;
+            float enterNear = min(enterLeft, enterRight);
+            float enterFar = max(enterLeft, enterRight);
+            haveCurrent = enterNear < t;
+            if (haveCurrent) current = nearChild;
+            if (enterFar < t && stackSize < BVH_STACK_SIZE) {
+                stack[stackSize] = farChild;
+                stackEnter[stackSize] = enterFar;
+                ++stackSize;
+            }
         }
-        haveCurrent = false;
-
-        // 2. A leaf: test its triangles. Written out rather than looped: a GL with a loop
-        //    limit (Mesa 22's llvmpipe) counts every iteration against it, and a leaf has
-        //    at most 4 of them.
-        uint first = current.x, count = current.y;
-        if (count > 0u) {
+        // 2. A leaf: test its triangles, written out rather than looped (a GL with a loop
+        //    limit, Mesa 22's llvmpipe, counts every iteration against it).
+        if (haveCurrent) {
+            ++bvhLoopIterations;
+            uint first = current.x, count = current.y;
             bvhTestTriangle(ray, first, tMin, found, triangle, t, uv);
             if (count > 1u) bvhTestTriangle(ray, first + 1u, tMin, found, triangle, t, uv);
             if (count > 2u) bvhTestTriangle(ray, first + 2u, tMin, found, triangle, t, uv);
             if (count > 3u) bvhTestTriangle(ray, first + 3u, tMin, found, triangle, t, uv);
             if (found && anyHit) return true;  // a shadow ray needs no more
-            continue;
         }
-
-        // 3. A node: one fetch, two boxes. A child the ray misses, or enters only
-        //    behind the nearest hit so far, is out.
-        BvhNode node = bvhNodeAt(first);
-        float enterLeft = bvhEnterBox(boxRay, node.leftMin, node.leftMax, tMin, t);
-        float enterRight = bvhEnterBox(boxRay, node.rightMin, node.rightMax, tMin, t);
-
-        // 4. The child the ray enters first goes first: a hit in it is likely nearer
-        //    than anything in the other, which is then skipped at step 1.
-        uvec2 left = uvec2(node.leftIndex, node.leftCount);
-        uvec2 right = uvec2(node.rightIndex, node.rightCount);
-        bool leftFirst = enterLeft <= enterRight;
-        uvec2 nearChild = leftFirst ? left : right, farChild = leftFirst ? right : left;
-        float enterNear = min(enterLeft, enterRight), enterFar = max(enterLeft, enterRight);
-        if (enterNear < t) {
-            current = nearChild;
-            haveCurrent = true;
+        // 3. Then the child put aside last that the ray enters before the nearest hit
+        //    (the stack never overflows: the builder keeps the tree within
+        //    BVH_STACK_SIZE levels).
+        haveCurrent = false;
+        while (stackSize > 0 && !haveCurrent) {
+            --stackSize;
+            haveCurrent = stackEnter[stackSize] < t;
+            current = stack[stackSize];
         }
-        // Each node on the way down from the root puts aside at most one child, and the
-        // builder keeps the tree within BVH_STACK_SIZE levels: the stack never overflows.
-        if (enterFar < t && stackSize < BVH_STACK_SIZE) {
-            stack[stackSize] = farChild;
-            stackEnter[stackSize] = enterFar;
-            ++stackSize;
-        }
+        if (!haveCurrent) break;
     }
     return found;
 }
