@@ -70,11 +70,13 @@ std::string forEach(const char* name, size_t count) {
 }
 // --8<-- [end:array]
 
+// The ways' names, in the order of their MEMORY_ numbers (shared.h).
+const char* const kMemoryNames[] = {"storage", "uniform", "texture", "constants"};
+
 int memoryCode(const std::string& name) {
-    return name == "storage"   ? MEMORY_STORAGE
-           : name == "uniform" ? MEMORY_UNIFORM
-           : name == "texture" ? MEMORY_TEXTURE
-                               : MEMORY_CONSTANTS;
+    for (int memory = MEMORY_STORAGE; memory < MEMORY_CONSTANTS; ++memory)
+        if (name == kMemoryNames[memory]) return memory;
+    return MEMORY_CONSTANTS;
 }
 
 bool fitsInCode(const GpuScene& scene, size_t times = 1) {
@@ -97,10 +99,7 @@ void declareSceneCodeOptions(course::CommandLine& cli, SceneCodeOptions& options
              &options.generic);
 }
 
-std::string memoryName(int memory) {
-    const char* names[] = {"storage", "uniform", "texture", "constants"};
-    return names[memory];
-}
+std::string memoryName(int memory) { return kMemoryNames[memory]; }
 
 void recordSceneCode(const SceneCodeChoice& choice, course::Stats& stats) {
     stats.set("scene_memory", memoryName(choice.sceneMemory));
