@@ -108,9 +108,6 @@ void buildTree(GpuScene& gpu, const BvhOptions& options) {
     for (uint32_t input : gpu.bvh.triangleOrder) {
         leafPosition[input] = uint32_t(gpu.triangles.size());
         gpu.triangles.push_back(inputOrder[input]);
-        for (uint32_t corner : {inputOrder[input].corners.x, inputOrder[input].corners.y,
-                                inputOrder[input].corners.z})
-            gpu.leafCorners.push_back(gpu.positions[corner]);
     }
     for (gpu::Emitter& emitter : gpu.emitters)
         if (emitter.shape == SHAPE_TRIANGLE) emitter.index = leafPosition[emitter.index];
@@ -205,7 +202,7 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
                          GpuBuffer::fromVector(scene.textures),
                          GpuBuffer::fromVector(scene.texels),
                          GpuBuffer::fromVector(environmentCdf),
-                         GpuBuffer::fromVector(scene.leafCorners)};
+                         GpuBuffer()};
     buffers.spheres.bindStorage(SPHERES_BINDING);
     buffers.quads.bindStorage(QUADS_BINDING);
     buffers.triangles.bindStorage(TRIANGLES_BINDING);
@@ -235,6 +232,14 @@ SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& enviro
         view(buffers.triangles, "the triangles", TRIANGLES_UNIT);
         view(buffers.positions, "the triangles' corners", POSITIONS_UNIT);
         view(buffers.bvhNodes, "the tree", BVH_NODES_UNIT);
+        // Each triangle's three corners copied out in leaf order: a leaf's corners are
+        // one run of texels, read without going through the corner indices.
+        std::vector<glm::vec4> leafCorners;
+        leafCorners.reserve(3 * scene.triangles.size());
+        for (const gpu::Triangle& t : scene.triangles)
+            for (uint32_t corner : {t.corners.x, t.corners.y, t.corners.z})
+                leafCorners.push_back(scene.positions[corner]);
+        buffers.leafCorners = GpuBuffer::fromVector(leafCorners);
         view(buffers.leafCorners, "the triangles' corners in leaf order", LEAF_CORNERS_UNIT);
     }
     if (sceneMemory == MEMORY_UNIFORM) {

@@ -19,7 +19,6 @@ struct GpuScene {
     std::vector<gpu::Quad> quads;
     std::vector<gpu::Triangle> triangles;
     std::vector<glm::vec4> positions;  // the triangles' corners, in the world; w unused
-    std::vector<glm::vec4> leafCorners;  // each triangle's 3 corners, in leaf order
     std::vector<glm::vec4> normals;    // the normals at the corners, unit; w unused
     std::vector<glm::vec2> uvs;        // the corners' texture coordinates (OBJ vt)
     std::vector<gpu::Material> materials;
