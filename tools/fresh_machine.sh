@@ -10,7 +10,7 @@
 #   SUITE         bookworm (Debian 12), trixie (Debian 13) or jammy (Ubuntu 22.04,
 #                 Gradescope's image: Python 3.10, OpenEXR 2.5; main and universe,
 #                 with jammy-updates and jammy-security as an installed Ubuntu has)
-#   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run does:
+#   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run names:
 #                 the whole test layer is set up and built, one chapter's checks run)
 #   --gradescope NN  instead: lay the root out as Gradescope does (/autograder/source,
 #                 /autograder/submission, /autograder/results), unpack the chapter's
