@@ -501,7 +501,8 @@ def book_diff_pairs() -> list[tuple[str, str]]:
 def cmd_book(args):
     import editions
     build()
-    render_book_figures(draft=args.draft)
+    if not args.figures_as_they_are:
+        render_book_figures(draft=args.draft)
     os.environ["NO_MKDOCS_2_WARNING"] = "1"  # Material 9.7+ advertises its successor
     # book/hooks/edition.py reads this: the student edition's listings come from the
     # starters' code, without the answer notes, into book/site-student.
@@ -710,6 +711,9 @@ def main():
     book.add_argument("--student", action="store_true",
                       help="the student edition, to publish: the starters' code instead of "
                       "the solutions, no answer notes (into book/site-student)")
+    book.add_argument("--figures-as-they-are", action="store_true",
+                      help="use the figures and diffs the last ./course book made, "
+                      "without rendering them again (both editions in one test run)")
 
     bench = verbs.add_parser(
         "bench", help="our path tracer against Mitsuba 3 (Cornell box, teapot); chapter "
