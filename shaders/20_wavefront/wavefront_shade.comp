@@ -1,0 +1,27 @@
+#version 430 core
+// --8<-- [start:shade]
+// Shade the hits on one kind of material (SHADE_KIND, from the generated
+// shade_kind.glsl: one program per kind the scene has). Next-event estimation's shadow
+// ray goes to the shadow queue, a path that goes on to the other ray queue.
+#include "shade_kind.glsl"
+#include "path_tracer.glsl"
+#include "wavefront.glsl"
+
+layout(local_size_x = QUEUE_GROUP_SIZE) in;
+
+void main() {
+    uint pixel;
+    if (!itemOf(QUEUE_SHADE + SHADE_KIND, pixel)) return;
+    PathState path = loadPath(pixel);
+    RandomState random = randomStates[pixel];
+    ShadowRay shadow;
+    bool goesOn = shadeHit(path, loadHit(pixel), random, shadow);
+    randomStates[pixel] = random;
+    storePath(pixel, path);
+    if (shadow.tMax != 0.0) {
+        storeShadowRay(pixel, shadow);
+        push(QUEUE_SHADOW, pixel);
+    }
+    if (goesOn) push(1u - rayQueue, pixel);
+}
+// --8<-- [end:shade]

@@ -1,0 +1,16 @@
+#version 430 core
+// Trace the shadow rays in the shadow queue: each unblocked one adds its light to its
+// path's radiance.
+#include "path_tracer.glsl"
+#include "wavefront.glsl"
+
+layout(local_size_x = QUEUE_GROUP_SIZE) in;
+
+void main() {
+    uint pixel;
+    if (!itemOf(QUEUE_SHADOW, pixel)) return;
+    uint rays = rayCounts[pixel];
+    vec3 light = shadowRayLight(loadShadowRay(pixel), rays);
+    rayCounts[pixel] = rays;
+    paths[pixel].radiance += light;
+}
