@@ -6,6 +6,8 @@
 // compute shaders: it gives 0 for this chapter's renders. Timestamps work on both.)
 #pragma once
 #include "course/gl.h"
+#include "course/gpu_buffer.h"
+#include "course/session.h"
 
 class GpuTimer {
 public:
@@ -23,3 +25,8 @@ public:
 private:
     GLuint queries_[2] = {0, 0};
 };
+
+// The render's speed in --json: samples_per_pixel and rays (each pixel's count, summed),
+// and headless, per second of wall_ms, with the GPU's own gpu_ms.
+void recordSpeed(course::Session& session, const course::GpuBuffer& rayCounts,
+                 unsigned samples, const GpuTimer& timer);

@@ -3,7 +3,6 @@
 // kernels that each do one step for a queue of paths (--kernel wavefront, wavefront.h).
 #include <algorithm>
 #include <chrono>
-#include <numeric>
 #include <optional>
 #include <string>
 
@@ -113,10 +112,10 @@ int main(int argc, char** argv) {
         //    gpu::PathParameters (shared.h), written before each dispatch: the sample
         //    count grows, and the fly camera may have moved.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
-        course::ShaderProgram& path =
-            session.loadCompute("path.comp", {{"scene_code.glsl", sceneCode}});
-        std::optional<Wavefront> wavefront;  // --kernel wavefront: its kernels and queues
+        course::ShaderProgram* path = nullptr;  // the megakernel, or
+        std::optional<Wavefront> wavefront;     // --kernel wavefront: its kernels, queues
         if (kernel == "wavefront") wavefront.emplace(session, scene, sceneCode, width, height);
+        else path = &session.loadCompute("path.comp", {{"scene_code.glsl", sceneCode}});
         const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);
         parameters.imageSize = glm::uvec2(width, height);
@@ -141,7 +140,7 @@ int main(int argc, char** argv) {
             parameters.sampleIndex = samples++;
             parameterBuffer.write(&parameters, sizeof parameters);
             if (wavefront) wavefront->addSample(depth);
-            else path.dispatchCovering(width, height);
+            else path->dispatchCovering(width, height);
         };
         GpuTimer gpuTimer;  // the render as the GPU timed it
         auto render = [&] {
@@ -194,18 +193,8 @@ int main(int argc, char** argv) {
         // --8<-- [end:window]
         session.finish(image, render, eachFrame);
 
-        // 6. Statistics: every ray the shader traced (camera, bounce and shadow rays).
-        std::vector<uint32_t> counts = rayCounts.readAll<uint32_t>();
-        double rays = std::accumulate(counts.begin(), counts.end(), 0.0);
-        double seconds = session.stats().number("wall_ms") / 1000.0;
-        session.stats().set("samples_per_pixel", double(samples));
-        session.stats().set("rays", rays);
-        if (!session.isWindow()) {
-            double all = double(width) * height * samples;
-            session.stats().set("samples_per_second", all / seconds);
-            session.stats().set("rays_per_second", rays / seconds);
-            session.stats().set("gpu_ms", gpuTimer.milliseconds());
-        }
+        // 7. Statistics: samples and rays (every one the shaders traced) per second.
+        recordSpeed(session, rayCounts, samples, gpuTimer);
         if (scriptCameraMove) session.stats().set("camera_z", double(fly.eye.z));
     });
 }

@@ -139,7 +139,7 @@ std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
     }
     const bool all = !choice.specialised;
     std::ostringstream code;
-    code << "// Written by the program for this scene (chapters/19_speed/scene_code.cpp).\n"
+    code << "// Written by the program for this scene (chapters/20_wavefront/scene_code.cpp).\n"
          << "#define SCENE_MEMORY " << choice.sceneMemory << "  // "
          << memoryName(choice.sceneMemory) << "\n"
          << "#define BVH_MEMORY " << choice.bvhMemory << "  // "

@@ -1,5 +1,5 @@
 // Specialisation: the host writes part of the shader for the scene it is about to
-// render, scene_code.glsl, which path.comp includes. It holds the scene's counts, the
+// render, scene_code.glsl, which path_tracer.glsl includes. It holds the scene's counts, the
 // features it uses (material kinds, textures, environment, triangles) as numbers the
 // compiler folds, and which way the shaders read the scene (scene_memory.glsl); for a
 // small scene, the scene itself as constant arrays.

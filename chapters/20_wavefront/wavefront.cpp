@@ -27,11 +27,8 @@ Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
                      const std::string& sceneCode, int width, int height)
     : width_(width),
       height_(height),
-      paths_(size_t(width) * height * sizeof(gpu::StoredPath)),
-      hits_(size_t(width) * height * sizeof(gpu::StoredHit)),
-      shadowRays_(size_t(width) * height * sizeof(gpu::StoredShadowRay)),
-      queues_(QUEUE_COUNT * sizeof(gpu::Queue)),
-      queueItems_(size_t(width) * height * QUEUE_COUNT * sizeof(uint32_t)),
+      slots_(size_t(width) * height * sizeof(gpu::PathSlot)),
+      queues_(QUEUE_COUNT * (sizeof(gpu::Queue) + size_t(width) * height * sizeof(uint32_t))),
       camera_(session.loadCompute("wavefront_camera.comp", {{"scene_code.glsl", sceneCode}})),
       extend_(session.loadCompute("wavefront_extend.comp", {{"scene_code.glsl", sceneCode}})),
       shadow_(session.loadCompute("wavefront_shadow.comp", {{"scene_code.glsl", sceneCode}})),
@@ -45,11 +42,8 @@ Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
                                                         {{"scene_code.glsl", sceneCode},
                                                          {"shade_kind.glsl", define}})});
     }
-    paths_.bindStorage(PATHS_BINDING);
-    hits_.bindStorage(HITS_BINDING);
-    shadowRays_.bindStorage(SHADOW_RAYS_BINDING);
+    slots_.bindStorage(PATH_SLOTS_BINDING);
     queues_.bindStorage(QUEUES_BINDING);
-    queueItems_.bindStorage(QUEUE_ITEMS_BINDING);
 }
 
 // --8<-- [start:sample]

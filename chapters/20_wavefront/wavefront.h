@@ -36,7 +36,8 @@ private:
     uint32_t queueSize(uint32_t queue) const;  // reads it back: waits for the GPU
 
     int width_, height_;
-    course::GpuBuffer paths_, hits_, shadowRays_, queues_, queueItems_;
+    course::GpuBuffer slots_;   // each pixel's PathSlot
+    course::GpuBuffer queues_;  // the queues, then their items
     const course::ShaderProgram& camera_;
     const course::ShaderProgram& extend_;
     std::vector<std::pair<uint32_t, const course::ShaderProgram*>> shaders_;  // by kind

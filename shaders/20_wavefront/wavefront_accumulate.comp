@@ -11,7 +11,7 @@ void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
     if (pixel.x >= imageSize.x || pixel.y >= imageSize.y) return;  // overhanging tiles
     uint index = pixel.y * imageSize.x + pixel.x;
-    vec3 radiance = paths[index].radiance;
+    vec3 radiance = slots[index].path.radiance;
     vec3 mean = sampleIndex == 0u ? vec3(0.0) : pixels[index].rgb;
     mean += (radiance - mean) / float(sampleIndex + 1u);
     pixels[index] = vec4(mean, 1.0);

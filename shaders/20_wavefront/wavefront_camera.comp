@@ -5,6 +5,8 @@
 #include "wavefront.glsl"
 
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
+layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
+layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;

@@ -7,6 +7,7 @@
 #include "wavefront.glsl"
 
 layout(local_size_x = QUEUE_GROUP_SIZE) in;
+layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 void main() {
     uint pixel;
@@ -16,7 +17,7 @@ void main() {
     Hit hit;
     if (!nearestHit(path.ray, 0.0, FOREVER, hit)) {
         leaveScene(path);
-        paths[pixel].radiance = path.radiance;
+        slots[pixel].path.radiance = path.radiance;
         return;
     }
     storeHit(pixel, hit);

@@ -5,12 +5,11 @@
 #ifndef COURSE_WAVEFRONT_LAYOUT_H
 #define COURSE_WAVEFRONT_LAYOUT_H
 
-// Storage buffer bindings, after shared.h's.
-#define PATHS_BINDING 18        // each pixel's PathState, between kernels: StoredPath
-#define HITS_BINDING 19         // each pixel's last hit, from extend to shade: StoredHit
-#define SHADOW_RAYS_BINDING 20  // each pixel's shadow ray, from shade to shadow
-#define QUEUES_BINDING 21       // the queues' sizes and dispatch commands: Queue
-#define QUEUE_ITEMS_BINDING 22  // the queues' items: pixel indices, a pixel count each
+// Storage buffer bindings, after shared.h's: two only, since llvmpipe gives a compute
+// shader at most 16 storage blocks, and a generic shader (--generic) uses 14 already.
+#define PATH_SLOTS_BINDING 18  // each pixel's path, hit and shadow ray: PathSlot
+#define QUEUES_BINDING 19      // the queues' sizes and dispatch commands (Queue), then
+                               // their items: pixel indices, room for every pixel in each
 
 // --8<-- [start:queues]
 // The queues. Paths to trace alternate between two: the kernels read one and fill the
@@ -75,6 +74,13 @@ struct StoredShadowRay {
     vec3 light;
     uint unused1;
 };
+// What a pixel's path keeps between kernels: its state, its last hit (from extend to
+// shade), its shadow ray (from shade to shadow).
+struct PathSlot {
+    StoredPath path;
+    StoredHit hit;
+    StoredShadowRay shadowRay;
+};
 
 #ifdef __cplusplus
 static_assert(sizeof(Queue) == 16 && offsetof(Queue, groupsX) == 4, "std430 Queue");
@@ -86,6 +92,7 @@ static_assert(sizeof(StoredHit) == 64 && offsetof(StoredHit, uv) == 48 &&
               "std430 StoredHit");
 static_assert(sizeof(StoredShadowRay) == 48 && offsetof(StoredShadowRay, light) == 32,
               "std430 StoredShadowRay");
+static_assert(sizeof(PathSlot) == 176, "std430 PathSlot");
 }  // namespace gpu
 #endif
 

@@ -8,6 +8,7 @@
 #include "wavefront.glsl"
 
 layout(local_size_x = QUEUE_GROUP_SIZE) in;
+layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
 
 void main() {
     uint pixel;

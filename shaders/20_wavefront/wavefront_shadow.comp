@@ -5,6 +5,7 @@
 #include "wavefront.glsl"
 
 layout(local_size_x = QUEUE_GROUP_SIZE) in;
+layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 void main() {
     uint pixel;
@@ -12,5 +13,5 @@ void main() {
     uint rays = rayCounts[pixel];
     vec3 light = shadowRayLight(loadShadowRay(pixel), rays);
     rayCounts[pixel] = rays;
-    paths[pixel].radiance += light;
+    slots[pixel].path.radiance += light;
 }
