@@ -50,6 +50,7 @@ class GradeTest:
 SMALL = ["--width", "96", "--height", "72"]
 ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
 TINY = ["--width", "32", "--height", "32"]  # statistical tests: many small runs
+WAVEFRONT = ["--kernel", "wavefront"]  # chapter 20: the kernels over queues
 TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two sizes
 PLATES = ["--scene", "glossy_plates"]  # assets/scenes: four rough metals, four lamps
 # Samples of the statistical tests (tools/grading_statistics.py): the submission's 8
@@ -295,6 +296,22 @@ SPECS: dict[str, list[GradeTest]] = {
                    "--view", "normals"]),
         GradeTest("the showcase's albedos", 2, [*SMALL, "--view", "albedo"], "image",
                   "after_due_date"),
+    ],
+    # Chapter 20's exercises are the wavefront's queue: a push (an atomic place for each
+    # pixel) and the dispatch commands (enough work groups for every item). Either wrong
+    # loses paths or traces the wrong ones, and the picture darkens or scrambles: judged
+    # by statistics, as the megakernel's pictures are. The room by direct light first
+    # (one kind of material), the metals and glass (a queue per kind), the sky showcase
+    # after the due date.
+    "20": [
+        GradeTest("the room by direct light, through the wavefront", 4,
+                  [*TINY, "--scene", "cornell_box", "--direct", *WAVEFRONT], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("metals and glass, through the wavefront", 3,
+                  [*TINY, "--scene", "cornell_glass", *WAVEFRONT], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the sky showcase, through the wavefront", 3, [*TINY, *WAVEFRONT],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
     # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer

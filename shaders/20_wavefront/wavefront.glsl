@@ -19,8 +19,11 @@ uint pixelCount() { return imageSize.x * imageSize.y; }
 // Add a pixel's path to a queue. Many invocations push at once: atomicAdd gives each
 // its own place (the size before its own addition), so no two write the same one.
 void push(uint queue, uint pixel) {
+    // BEGIN SOLUTION take a place in the queue (atomicAdd on its size), put the pixel there
     uint place = atomicAdd(queues[queue].size, 1u);
     queueItems[queue * pixelCount() + place] = pixel;
+    // STUB: // nothing queued: no path is ever traced
+    // END SOLUTION
 }
 // --8<-- [end:push]
 

@@ -29,10 +29,11 @@ RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
 
 
 def pytest_configure(config):
-    for number in range(1, 20):
-        config.addinivalue_line("markers", f"chapter{number:02d}: checks of chapter {number:02d}")
-    for number in range(1, 10):  # appendices: A1, A2, ...
-        config.addinivalue_line("markers", f"chapterA{number}: checks of appendix A{number}")
+    # One marker per checkpoint folder: chapters/02_first_pixels -> chapter02, and the
+    # appendices' chapters/A1_... -> chapterA1.
+    for folder in sorted((ROOT / "chapters").iterdir()):
+        number = folder.name.split("_")[0]
+        config.addinivalue_line("markers", f"chapter{number}: checks of {folder.name}")
 
 
 def pytest_collection_modifyitems(items):

@@ -668,3 +668,60 @@ CHAPTER_A1 = [
 ]
 
 CATALOGUE["A1"] = CHAPTER_A1
+
+
+# ---------------------------------------------------------------- chapter 20
+
+W = "20_wavefront"
+PUSH = """    uint place = atomicAdd(queues[queue].size, 1u);
+    queueItems[queue * pixelCount() + place] = pixel;
+"""
+GROUPS = "    queues[queue].groupsX = (size + QUEUE_GROUP_SIZE - 1u) / QUEUE_GROUP_SIZE;\n"
+CAMERA_DRAWS = """    vec2 inPixel = random2(random);
+    Ray ray = primaryRay(pixel, imageSize, inPixel, random2(random));
+"""
+
+CHAPTER_20 = [
+    # The loop goes on from the size the failed swap saw: re-reading the size instead
+    # is wrong, since the buffer is not `coherent` and the compiler may keep the first
+    # read (on llvmpipe, the loop then spins until Mesa 22 ends the invocation).
+    Variant(W, "a place taken by a compare-and-swap loop", True, (
+        Edit("shaders/wavefront.glsl", PUSH,
+             "    uint place = queues[queue].size;\n"
+             "    for (;;) {\n"
+             "        uint seen = atomicCompSwap(queues[queue].size, place, place + 1u);\n"
+             "        if (seen == place) break;\n"
+             "        place = seen;\n"
+             "    }\n"
+             "    queueItems[queue * pixelCount() + place] = pixel;\n"),)),
+    Variant(W, "one work group for each item: wasteful, but every item runs", True, (
+        Edit("shaders/wavefront_dispatch.comp", GROUPS,
+             "    queues[queue].groupsX = size;\n"),)),
+    Variant(W, "groups by a shift and a remainder", True, (
+        Edit("shaders/wavefront_dispatch.comp", GROUPS,
+             "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE + "
+             "(size % QUEUE_GROUP_SIZE != 0u ? 1u : 0u);\n"),)),
+    Variant(W, "the lens point drawn before the pixel point (other noise)", True, (
+        Edit("shaders/wavefront_camera.comp", CAMERA_DRAWS,
+             "    vec2 onLens = random2(random);\n"
+             "    Ray ray = primaryRay(pixel, imageSize, random2(random), onLens);\n"),)),
+
+    Variant(W, "the size read and written back, not atomically", False, (
+        Edit("shaders/wavefront.glsl", PUSH,
+             "    uint place = queues[queue].size;\n"
+             "    queues[queue].size = place + 1u;\n"
+             "    queueItems[queue * pixelCount() + place] = pixel;\n"),)),
+    Variant(W, "the items written without their queue's offset", False, (
+        Edit("shaders/wavefront.glsl", PUSH,
+             "    uint place = atomicAdd(queues[queue].size, 1u);\n"
+             "    queueItems[place] = pixel;\n"),)),
+    Variant(W, "the place written into the queue instead of the pixel", False, (
+        Edit("shaders/wavefront.glsl", PUSH,
+             "    uint place = atomicAdd(queues[queue].size, 1u);\n"
+             "    queueItems[queue * pixelCount() + place] = place;\n"),)),
+    Variant(W, "work groups rounded down", False, (
+        Edit("shaders/wavefront_dispatch.comp", GROUPS,
+             "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE;\n"),)),
+]
+
+CATALOGUE["20"] = CHAPTER_20

@@ -45,8 +45,6 @@ WAYS = {
     "generic": ["--generic"],
 }
 SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
-MOST_DIFFERING_PIXELS = 0.003  # 3 in 1000: last-bit changes that sent a bounce elsewhere
-MEAN_TOLERANCE = 1e-5
 
 
 def render(tmp_path, chapter, name, *args) -> np.ndarray:
@@ -56,15 +54,6 @@ def render(tmp_path, chapter, name, *args) -> np.ndarray:
     return read_pfm(out)[..., :3]
 
 
-def assert_same_picture(image: np.ndarray, reference: np.ndarray, what: str):
-    """The same picture within float rounding (module docstring)."""
-    differs = np.abs(image - reference) > 1e-5 * np.maximum(np.abs(reference), 1e-3)
-    share = differs.any(axis=-1).mean()
-    assert share <= MOST_DIFFERING_PIXELS, f"{what}: {share:.2%} of the pixels differ"
-    relative = abs(image.mean() / reference.mean() - 1)
-    assert relative <= MEAN_TOLERANCE, f"{what}: the mean differs by {relative:.2e}"
-
-
 @pytest.mark.parametrize("scene", ["cornell_metals", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_every_way_of_reading_the_scene_draws_chapter_18s_picture(tmp_path, scene):
@@ -72,7 +61,7 @@ def test_every_way_of_reading_the_scene_draws_chapter_18s_picture(tmp_path, scen
     for way, options in WAYS.items():
         image = render(tmp_path, "19", way.replace(" ", "_"), "--scene", scene, *SMALL,
                        *options)
-        assert_same_picture(image, reference, f"{scene}, {way}")
+        path_checks.assert_same_picture(image, reference, f"{scene}, {way}")
 
 
 def test_a_wrong_way_of_reading_the_spheres_is_caught(tmp_path):
@@ -86,7 +75,7 @@ def test_a_wrong_way_of_reading_the_spheres_is_caught(tmp_path):
     wrong = render(tmp_path, "19", "wrong", "--scene", "cornell_metals", *SMALL,
                    "--scene-memory", "texture", "--shader-dir", shaders)
     with pytest.raises(AssertionError):
-        assert_same_picture(wrong, reference, "the planted mistake")
+        path_checks.assert_same_picture(wrong, reference, "the planted mistake")
 
 
 def stats(tmp_path, *args) -> dict:
@@ -138,7 +127,7 @@ def test_at_the_limit_and_past_it_the_picture_is_the_generic_shaders(tmp_path, s
     assert stats(tmp_path, "--scene", scene)["scene_memory"] == way
     fast = render(tmp_path, "19", "fast", "--scene", scene, *SMALL)
     generic = render(tmp_path, "19", "generic", "--scene", scene, *SMALL, "--generic")
-    assert_same_picture(fast, generic, f"{spheres} spheres through {way}")
+    path_checks.assert_same_picture(fast, generic, f"{spheres} spheres through {way}")
     assert fast.mean() > 0.01  # lit, not black
 
 

@@ -264,7 +264,7 @@ CATALOGUES = {"09": "09_random_numbers", "10": "10_scenes", "11": "11_path_traci
               "12": "12_light_sampling",
               "13": "13_bvh", "14": "14_bvh_sah", "15": "15_metals",
               "16": "16_glass", "17": "17_lens_textures", "18": "18_environment",
-              "A1": "A1_gl33_fragment"}
+              "20": "20_wavefront", "A1": "A1_gl33_fragment"}
 VARIANTS = [v for number in CATALOGUES for v in grading_variants.CATALOGUE[number]]
 
 
