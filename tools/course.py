@@ -538,6 +538,13 @@ def cmd_bench(args):
         settings = bench_speed.Settings(args.size, args.speed_spp, args.depth, args.repeat)
         status |= bench_speed.main({name[:2]: binary(name) for name in speed}, settings,
                                    update_book=args.update_book)
+    if args.which in ("all", "wavefront"):
+        import bench_wavefront
+        wavefront = find_chapter("20")
+        build([wavefront])
+        settings = bench_wavefront.Settings(args.speed_spp, args.depth, args.repeat)
+        status |= bench_wavefront.main(binary(wavefront), settings,
+                                       update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         import bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \
@@ -722,13 +729,15 @@ def main():
         "range of the runs, names the machine (CPU, cores, Mesa, LLVM, Mitsuba) and warns "
         "when it was busy (1-minute load above 0.3 per core). Prints the tables and "
         "writes build/bench/*.json; the book's pages change only with --update-book.")
-    bench.add_argument("which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "grading"],
-                       default="all", help="which benchmark (default: mitsuba, bvh and speed; "
-                       "mitsuba: the Cornell box through chapter 12 and the newest chapter, "
-                       "the teapot through the newest chapter with a BVH, ours and Mitsuba's "
-                       "runs taking turns; speed: chapter 19's ways of reading the scene "
-                       "against chapter 18; grading: one submission of each chapter on one "
-                       "core)")
+    bench.add_argument("which", nargs="?",
+                       choices=["all", "mitsuba", "bvh", "speed", "wavefront", "grading"],
+                       default="all", help="which benchmark (default: mitsuba, bvh, speed "
+                       "and wavefront; mitsuba: the Cornell box through chapter 12 and the "
+                       "newest chapter, the teapot through the newest chapter with a BVH, "
+                       "ours and Mitsuba's runs taking turns; speed: chapter 19's ways of "
+                       "reading the scene against chapter 18; wavefront: chapter 20's "
+                       "megakernel against its wavefront; grading: one submission of each "
+                       "chapter on one core)")
     bench.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     bench.add_argument("--repeat", type=int, default=3,
                        help="runs of each figure (gradings per chapter): the median and the "

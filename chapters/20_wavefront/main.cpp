@@ -1,7 +1,6 @@
 // Chapter 20: wavefront path tracing. Chapter 19's path tracer, run two ways: as one
 // kernel that follows each pixel's path to its end (the megakernel, path.comp), or as
 // kernels that each do one step for a queue of paths (--kernel wavefront, wavefront.h).
-#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -33,9 +32,8 @@ int main(int argc, char** argv) {
                {"nee", "bsdf", "mis"}, &estimator);
     cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
                "the GPU between them (the same image)", &batches, 1, 1 << 20);
-    std::string kernel = "megakernel";
-    cli.choice("--kernel", "one kernel per path, or one per step over queues of paths",
-               {"megakernel", "wavefront"}, &kernel);
+    KernelOptions kernel;
+    declareKernelOptions(cli, kernel);  // --kernel megakernel|wavefront, --paths
     bool bruteForce = false;
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
              "(chapter 12's way: for comparisons)", &bruteForce);
@@ -52,7 +50,7 @@ int main(int argc, char** argv) {
         const course::Options& options = session.options();
         const int width = options.width, height = options.height;
         if (direct) depth = 1;
-        if (kernel == "wavefront" && view != "radiance")
+        if (kernel.kernel == "wavefront" && view != "radiance")
             course::fail(course::ExitCode::BadUsage, "--kernel wavefront traces paths only: "
                          "--view " + view + " needs the megakernel (see --help)");
 
@@ -72,11 +70,12 @@ int main(int argc, char** argv) {
         course::logInfo(describeBvh(scene.bvh.stats));
         recordSceneStats(scene, session.stats());  // shapes, triangles, the tree ...
         // Each bounce loops over the shapes twice (nearest hit, shadow ray): with the
-        // tree, only spheres and quads, and its own steps are a few hundred per ray.
+        // tree, only spheres and quads, and its own steps are a few hundred per ray. (A
+        // wavefront kernel traces one ray: a path's bounces are rounds of dispatches.)
         size_t looped = scene.spheres.size() + scene.quads.size();
         if (bruteForce) looped = scene.shapeCount();
-        // (A wavefront kernel traces one ray: a path's bounces are rounds of dispatches.)
-        size_t rounds = view == "radiance" && kernel == "megakernel" ? size_t(depth) + 1 : 1;
+        bool wholePaths = view == "radiance" && kernel.kernel == "megakernel";
+        size_t rounds = wholePaths ? size_t(depth) + 1 : 1;
         const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
                                         : "Fewer spheres and quads, or a lower --depth, fit.";
         course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
@@ -114,7 +113,8 @@ int main(int argc, char** argv) {
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram* path = nullptr;  // the megakernel, or
         std::optional<Wavefront> wavefront;     // --kernel wavefront: its kernels, queues
-        if (kernel == "wavefront") wavefront.emplace(session, scene, sceneCode, width, height);
+        if (kernel.kernel == "wavefront")
+            wavefront.emplace(session, scene, sceneCode, width, height, kernel.paths);
         else path = &session.loadCompute("path.comp", {{"scene_code.glsl", sceneCode}});
         const course::SceneCamera& c = sceneFile.camera;
         course::FlyCamera fly = course::FlyCamera::looking(c.eye, c.look, 0.25f * scene.size);

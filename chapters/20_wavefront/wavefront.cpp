@@ -1,5 +1,6 @@
 #include "wavefront.h"
 
+#include <algorithm>
 #include <string>
 
 #include "shared.h"
@@ -21,14 +22,33 @@ std::vector<uint32_t> materialKinds(const GpuScene& scene) {
 // GPU: enough to stop --depth 1000 early, once Russian roulette has ended every path.
 constexpr int kRoundsBetweenLooks = 8;
 
+// The most path slots the GL allows: the pool and each queue's items must each fit in
+// one storage block, and a queue of them in one indirect dispatch.
+uint32_t mostPathSlots() {
+    GLint64 mostBytes = 0;
+    GLint mostGroups = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &mostBytes);
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &mostGroups);
+    int64_t itemsBytes = mostBytes - QUEUE_COUNT * int64_t(sizeof(gpu::Queue));
+    int64_t most = std::min<int64_t>({mostBytes / int64_t(sizeof(gpu::PathSlot)),
+                                      itemsBytes / (QUEUE_COUNT * int64_t(sizeof(uint32_t))),
+                                      int64_t(mostGroups) * QUEUE_GROUP_SIZE});
+    return uint32_t(std::min<int64_t>(most, UINT32_MAX));
+}
+
 }  // namespace
 
+void declareKernelOptions(course::CommandLine& cli, KernelOptions& options) {
+    cli.choice("--kernel", "one kernel per path, or one per step over queues of paths",
+               {"megakernel", "wavefront"}, &options.kernel);
+    cli.option("--paths", "N", "wavefront: paths in flight at once, the image in waves of "
+               "N pixels (default: every pixel, or as many as the GL allows)",
+               &options.paths, 1, 1 << 30);
+}
+
 Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
-                     const std::string& sceneCode, int width, int height)
-    : width_(width),
-      height_(height),
-      slots_(size_t(width) * height * sizeof(gpu::PathSlot)),
-      queues_(QUEUE_COUNT * (sizeof(gpu::Queue) + size_t(width) * height * sizeof(uint32_t))),
+                     const std::string& sceneCode, int width, int height, int paths)
+    : pixels_(size_t(width) * height),
       camera_(session.loadCompute("wavefront_camera.comp", {{"scene_code.glsl", sceneCode}})),
       extend_(session.loadCompute("wavefront_extend.comp", {{"scene_code.glsl", sceneCode}})),
       shadow_(session.loadCompute("wavefront_shadow.comp", {{"scene_code.glsl", sceneCode}})),
@@ -36,6 +56,13 @@ Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
                                       {{"scene_code.glsl", sceneCode}})),
       dispatch_(session.loadCompute("wavefront_dispatch.comp",
                                     {{"scene_code.glsl", sceneCode}})) {
+    size_t wanted = paths > 0 ? std::min(pixels_, size_t(paths)) : pixels_;
+    poolSize_ = uint32_t(std::min<size_t>(wanted, mostPathSlots()));
+    session.stats().set("paths_in_flight", double(poolSize_));
+    slots_ = course::GpuBuffer(size_t(poolSize_) * sizeof(gpu::PathSlot));
+    queues_ = course::GpuBuffer(QUEUE_COUNT * (sizeof(gpu::Queue) +
+                                               size_t(poolSize_) * sizeof(uint32_t)));
+    wave_ = course::GpuBuffer(sizeof(gpu::WaveParameters));
     for (uint32_t kind : materialKinds(scene)) {
         std::string define = "#define SHADE_KIND " + std::to_string(kind) + "\n";
         shaders_.push_back({kind, &session.loadCompute("wavefront_shade.comp",
@@ -44,41 +71,47 @@ Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
     }
     slots_.bindStorage(PATH_SLOTS_BINDING);
     queues_.bindStorage(QUEUES_BINDING);
+    wave_.bindUniform(WAVE_BINDING);
+}
+
+void Wavefront::addSample(int maxBounces) {
+    for (size_t first = 0; first < pixels_; first += poolSize_)
+        runWave(uint32_t(first), uint32_t(std::min<size_t>(poolSize_, pixels_ - first)),
+                maxBounces);
 }
 
 // --8<-- [start:sample]
-void Wavefront::addSample(int maxBounces) {
-    // What a kernel wrote, the next one reads: as storage, and as a dispatch command.
-    auto barrier = [] {
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT |
-                        GL_BUFFER_UPDATE_BARRIER_BIT);
-    };
+void Wavefront::runWave(uint32_t firstPixel, uint32_t waveSize, int maxBounces) {
     uint32_t rays = QUEUE_RAYS;  // the ray queue the kernels read; they fill the other
     empty(0, QUEUE_COUNT);
-    camera_.set("rayQueue", rays);
-    camera_.dispatchCovering(width_, height_);
+    setWave(firstPixel, waveSize, rays);
+    camera_.dispatchCovering(int(waveSize));  // camera rays into `rays`
     for (int round = 0; round <= maxBounces; ++round) {
-        barrier();
         computeDispatches();
-        extend_.set("rayQueue", rays);
         runOverQueue(extend_, rays);  // hits into the shading queues
         computeDispatches();
-        for (auto& [kind, shade] : shaders_) {
-            shade->set("rayQueue", rays);
+        for (auto& [kind, shade] : shaders_)
             runOverQueue(*shade, QUEUE_SHADE + kind);  // into QUEUE_SHADOW, next rays
-        }
         computeDispatches();
         runOverQueue(shadow_, QUEUE_SHADOW);
-        barrier();
-        empty(rays, 1);  // all traced
-        empty(QUEUE_SHADE, QUEUE_COUNT - QUEUE_SHADE);  // all shaded, all shadows traced
+        // Every ray traced, every hit shaded, every shadow ray traced: empty those
+        // queues (after the kernels' writes), and read the other ray queue next.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        empty(rays, 1);
+        empty(QUEUE_SHADE, QUEUE_COUNT - QUEUE_SHADE);
         rays = 1 - rays;
+        setWave(firstPixel, waveSize, rays);
         if ((round + 1) % kRoundsBetweenLooks == 0 && queueSize(rays) == 0) break;
     }
-    barrier();
-    accumulate_.dispatchCovering(width_, height_);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    accumulate_.dispatchCovering(int(waveSize));
 }
 // --8<-- [end:sample]
+
+void Wavefront::setWave(uint32_t firstPixel, uint32_t waveSize, uint32_t rayQueue) {
+    gpu::WaveParameters wave{firstPixel, waveSize, poolSize_, rayQueue};
+    wave_.write(&wave, sizeof wave);
+}
 
 void Wavefront::runOverQueue(const course::ShaderProgram& kernel, uint32_t queue) {
     kernel.use();
@@ -86,6 +119,7 @@ void Wavefront::runOverQueue(const course::ShaderProgram& kernel, uint32_t queue
     glDispatchComputeIndirect(queue * sizeof(gpu::Queue) + offsetof(gpu::Queue, groupsX));
 }
 
+// What the last kernel wrote, the next one reads: as storage, and as a dispatch command.
 void Wavefront::computeDispatches() {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     dispatch_.dispatchCovering(QUEUE_COUNT);

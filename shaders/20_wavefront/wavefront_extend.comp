@@ -10,17 +10,17 @@ layout(local_size_x = QUEUE_GROUP_SIZE) in;
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 void main() {
-    uint pixel;
-    if (!itemOf(rayQueue, pixel)) return;
-    PathState path = loadPath(pixel);
-    rayCounts[pixel] += 1u;
+    uint slot;
+    if (!itemOf(rayQueue, slot)) return;
+    PathState path = loadPath(slot);
+    rayCounts[pixelOf(slot)] += 1u;
     Hit hit;
     if (!nearestHit(path.ray, 0.0, FOREVER, hit)) {
         leaveScene(path);
-        slots[pixel].path.radiance = path.radiance;
+        slots[slot].path.radiance = path.radiance;
         return;
     }
-    storeHit(pixel, hit);
-    push(QUEUE_SHADE + materialAt(hit.material).kind, pixel);
+    storeHit(slot, hit);
+    push(QUEUE_SHADE + materialAt(hit.material).kind, slot);
 }
 // --8<-- [end:extend]

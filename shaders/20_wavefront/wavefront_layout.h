@@ -7,14 +7,15 @@
 
 // Storage buffer bindings, after shared.h's: two only, since llvmpipe gives a compute
 // shader at most 16 storage blocks, and a generic shader (--generic) uses 14 already.
-#define PATH_SLOTS_BINDING 18  // each pixel's path, hit and shadow ray: PathSlot
+#define PATH_SLOTS_BINDING 18  // each path's state, hit and shadow ray: PathSlot
 #define QUEUES_BINDING 19      // the queues' sizes and dispatch commands (Queue), then
-                               // their items: pixel indices, room for every pixel in each
+                               // their items: slot numbers, room for every slot in each
+#define WAVE_BINDING 5         // the uniform block WaveParameters (after shared.h's)
 
 // --8<-- [start:queues]
-// The queues. Paths to trace alternate between two: the kernels read one and fill the
-// other. A hit waits in the queue of its material's kind (QUEUE_SHADE + kind), a shadow
-// ray in QUEUE_SHADOW. Each queue holds at most one item per pixel.
+// The queues of path slots. Paths to trace alternate between two: the kernels read one
+// and fill the other. A hit waits in the queue of its material's kind (QUEUE_SHADE +
+// kind), a shadow ray in QUEUE_SHADOW. Each queue holds at most one item per slot.
 #define QUEUE_RAYS 0     // 0 and 1
 #define QUEUE_SHADE 2    // 2 to 5, one per material kind (shared.h)
 #define QUEUE_SHADOW 6
@@ -74,15 +75,32 @@ struct StoredShadowRay {
     vec3 light;
     uint unused1;
 };
-// What a pixel's path keeps between kernels: its state, its last hit (from extend to
-// shade), its shadow ray (from shade to shadow).
+// What a path keeps between kernels, in its slot: its state, its last hit (from extend
+// to shade), its shadow ray (from shade to shadow).
 struct PathSlot {
     StoredPath path;
     StoredHit hit;
     StoredShadowRay shadowRay;
 };
 
+// --8<-- [start:wave]
+// The pool holds poolSize path slots; a sample of the image is run as waves of at most
+// that many pixels, slot s holding pixel firstPixel + s. What the kernels of one round
+// read besides the buffers, as one std140 uniform block (shared.h's way).
 #ifdef __cplusplus
+struct WaveParameters {
+#else
+layout(std140, binding = WAVE_BINDING) uniform WaveParameters {
+#endif
+    uint firstPixel;  // the pixel of slot 0, in row order
+    uint waveSize;    // pixels in this wave: slots 0 to waveSize - 1
+    uint poolSize;    // slots in the pool: each queue has room for as many items
+    uint rayQueue;    // which of the two ray queues the kernels read (0 or 1)
+};
+// --8<-- [end:wave]
+
+#ifdef __cplusplus
+static_assert(sizeof(WaveParameters) == 16, "std140 WaveParameters");
 static_assert(sizeof(Queue) == 16 && offsetof(Queue, groupsX) == 4, "std430 Queue");
 static_assert(sizeof(StoredPath) == 64 && offsetof(StoredPath, bounce) == 28 &&
                   offsetof(StoredPath, radiance) == 48,

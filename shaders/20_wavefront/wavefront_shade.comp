@@ -11,18 +11,18 @@ layout(local_size_x = QUEUE_GROUP_SIZE) in;
 layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
 
 void main() {
-    uint pixel;
-    if (!itemOf(QUEUE_SHADE + SHADE_KIND, pixel)) return;
-    PathState path = loadPath(pixel);
-    RandomState random = randomStates[pixel];
+    uint slot;
+    if (!itemOf(QUEUE_SHADE + SHADE_KIND, slot)) return;
+    PathState path = loadPath(slot);
+    RandomState random = randomStates[pixelOf(slot)];
     ShadowRay shadow;
-    bool goesOn = shadeHit(path, loadHit(pixel), random, shadow);
-    randomStates[pixel] = random;
-    storePath(pixel, path);
+    bool goesOn = shadeHit(path, loadHit(slot), random, shadow);
+    randomStates[pixelOf(slot)] = random;
+    storePath(slot, path);
     if (shadow.tMax != 0.0) {
-        storeShadowRay(pixel, shadow);
-        push(QUEUE_SHADOW, pixel);
+        storeShadowRay(slot, shadow);
+        push(QUEUE_SHADOW, slot);
     }
-    if (goesOn) push(1u - rayQueue, pixel);
+    if (goesOn) push(1u - rayQueue, slot);
 }
 // --8<-- [end:shade]

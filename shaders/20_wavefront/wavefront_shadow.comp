@@ -8,10 +8,10 @@ layout(local_size_x = QUEUE_GROUP_SIZE) in;
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
 void main() {
-    uint pixel;
-    if (!itemOf(QUEUE_SHADOW, pixel)) return;
-    uint rays = rayCounts[pixel];
-    vec3 light = shadowRayLight(loadShadowRay(pixel), rays);
-    rayCounts[pixel] = rays;
-    slots[pixel].path.radiance += light;
+    uint slot;
+    if (!itemOf(QUEUE_SHADOW, slot)) return;
+    uint rays = rayCounts[pixelOf(slot)];
+    vec3 light = shadowRayLight(loadShadowRay(slot), rays);
+    rayCounts[pixelOf(slot)] = rays;
+    slots[slot].path.radiance += light;
 }

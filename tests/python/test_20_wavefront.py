@@ -19,10 +19,16 @@ paths), and changes nothing of what either computes: both call the same steps
   22's loop limit where the megakernel's whole path does not; it draws the tree's
   picture.
 - A view other than the radiance needs the megakernel: exit code 2, no image.
+- The pool of path slots: a pool smaller than the image (--paths) runs it in waves and
+  draws the same picture; a large image takes as many slots as the GL's limits allow
+  (asked at run time: llvmpipe's storage blocks hold 762 600 of them), and draws the
+  same picture too.
 
 The limits and why: tests/python/path_checks.py."""
 
 from __future__ import annotations
+
+import json
 
 import path_checks
 import pytest
@@ -103,3 +109,31 @@ def test_the_wavefront_agrees_with_mitsuba(tmp_path):
     scene_file = ROOT / "assets" / "scenes" / "cornell_box.scene"
     compared = path_checks.assert_agrees_with_mitsuba(ours, 512, scene_file)
     assert len(compared) >= 5, compared
+
+
+def wavefront_stats(tmp_path, *args) -> dict:
+    result = run_chapter("20", "--headless", "--out", tmp_path / "stats.pfm", "--json",
+                         *WAVEFRONT, *map(str, args))
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+def test_a_pool_smaller_than_the_image_runs_it_in_waves(tmp_path):
+    # 48 x 48 = 2 304 pixels through 1 000 path slots: waves of 1 000, 1 000 and 304.
+    scene = ["--scene", "sky_showcase", *SMALL]
+    assert wavefront_stats(tmp_path, *scene, "--paths", 1000)["paths_in_flight"] == 1000
+    megakernel = render(tmp_path, "20", "megakernel", *scene)
+    waves = render(tmp_path, "20", "waves", *scene, *WAVEFRONT, "--paths", "1000")
+    path_checks.assert_same_picture(waves, megakernel, "three waves of the image")
+
+
+def test_a_large_image_takes_as_many_paths_as_the_gl_allows(tmp_path):
+    # 1024 x 1024 pixels: a slot for each is 176 MiB, past llvmpipe's 128 MiB storage
+    # blocks, so there it runs in two waves of 762 600; a GL that allows more, in one.
+    scene = ["--scene", "cornell_box", "--width", "1024", "--height", "1024", "--spp",
+             "1", "--depth", "2"]
+    paths = wavefront_stats(tmp_path, *scene)["paths_in_flight"]
+    assert 0 < paths <= 1024 * 1024
+    megakernel = render(tmp_path, "20", "megakernel", *scene)
+    wavefront = render(tmp_path, "20", "wavefront", *scene, *WAVEFRONT)
+    path_checks.assert_same_picture(wavefront, megakernel, f"waves of {paths} paths")

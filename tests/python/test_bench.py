@@ -310,3 +310,57 @@ def test_the_speed_bench_writes_its_page_only_when_asked(tiny_speed_bench):
     assert "Each figure is the median of 2 runs" in page
     assert "| cornell_box | constants, written out |" in page
     assert "| storage buffers ÷ buffer textures |" in page
+
+
+# ---------------------------------------------------------------- chapter 20's wavefront bench
+
+@pytest.fixture(scope="module")
+def tiny_wavefront_bench(tmp_path_factory):
+    """bench_wavefront with the Cornell box's rows, tiny, twice over: once without
+    --update-book (on a copy of the chapter's page), once with."""
+    import bench_wavefront
+    program = BIN / "20_wavefront"
+    assert program.exists(), f"{program.name} is not built"
+    rows = tuple(bench_wavefront.Row(table, "cornell_box", kernel, size)
+                 for table, size in (("scenes", 16), ("sizes", 24))
+                 for kernel in bench_wavefront.KERNELS)
+    folder = tmp_path_factory.mktemp("wavefront")
+    page = folder / "20_wavefront.md"
+    page.write_text(bench_wavefront.PAGE.read_text())
+    book_before, page_before = bench_wavefront.PAGE.read_text(), page.read_text()
+    settings = bench_wavefront.Settings(spp=1, depth=2, repeat=2)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bench_wavefront, "ROWS", rows)
+        patch.setattr(bench_wavefront, "SCENES", (("cornell_box", "1: diffuse"),))
+        # the ratio table reads the 256² rows: here, the 16² ones stand for them
+        patch.setattr(bench_wavefront, "speed", lambda report, table, scene, size, kernel:
+                      report["rows"][f"{table}: {scene}: "
+                                     f"{16 if table == 'scenes' else size}: {kernel}"]
+                      ["samples_per_second"])
+        bench_wavefront.main(program, settings, update_book=False, page=page,
+                             out_folder=folder / "out")
+        unchanged = page.read_text() == page_before
+        bench_wavefront.main(program, settings, update_book=True, page=page,
+                             out_folder=folder / "out")
+    return {"report": json.loads((folder / "out" / "wavefront.json").read_text()),
+            "unchanged": unchanged, "page": page.read_text(),
+            "book_unchanged": bench_wavefront.PAGE.read_text() == book_before}
+
+
+def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
+    report = tiny_wavefront_bench["report"]
+    assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
+    assert {row["kernel"] for row in report["rows"].values()} == {"megakernel", "wavefront"}
+    for row in report["rows"].values():
+        for figure in ("samples_per_second", "rays_per_second"):
+            assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
+            assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
+
+
+def test_the_wavefront_bench_writes_its_page_only_when_asked(tiny_wavefront_bench):
+    assert tiny_wavefront_bench["unchanged"] and tiny_wavefront_bench["book_unchanged"]
+    page = tiny_wavefront_bench["page"]
+    assert "Each figure is the median of 2 runs" in page
+    assert "| cornell_box | 1: diffuse | wavefront |" in page
+    assert "| cornell_box | 24² | megakernel |" in page
+    assert "| cornell_box (1: diffuse) |" in page

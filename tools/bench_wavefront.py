@@ -1,0 +1,147 @@
+"""./course bench wavefront: the figures of chapter 20 (wavefront path tracing), each the
+median of repeated runs that take turns, on one machine, in one run of the bench.
+
+- **The kernels**: chapter 20's megakernel (one invocation follows a pixel's path to
+  its end) against its wavefront (a kernel per step over queues of paths), on scenes
+  of one, two and four kinds of material: the Cornell box (18 quads, diffuse), the
+  teapot in the Cornell room (6 320 triangles through the tree), the glass and metal
+  spheres in the room, and the sky showcase (50 spheres of every kind, the sky).
+- **The image's size**: the Cornell box at 64², 256² and 512². A wavefront runs some
+  forty dispatches for each sample, whatever the image's size: its fixed cost shows
+  in a small image.
+
+After an untimed warm-up of each row, the rows take turns for --repeat rounds; each
+figure is the median of its runs with their range. Speeds are samples per second as
+the chapter counts them (--json). Writes build/bench/wavefront.json and prints the
+tables; writes them into chapter 20's page only with --update-book."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import bench_common
+from bench_speed import run
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGE = ROOT / "book" / "docs" / "chapters" / "20_wavefront.md"
+START, END = "<!-- wavefront:start -->", "<!-- wavefront:end -->"
+OUT = ROOT / "build" / "bench"
+KERNELS = ("megakernel", "wavefront")
+
+
+@dataclass(frozen=True)
+class Row:
+    table: str    # "scenes" or "sizes"
+    scene: str    # assets/scenes/NAME.scene
+    kernel: str   # --kernel
+    size: int     # width and height
+    chapter: str = "20"
+
+    @property
+    def options(self) -> tuple:
+        return ("--kernel", self.kernel)
+
+    @property
+    def key(self) -> str:
+        return f"{self.table}: {self.scene}: {self.size}: {self.kernel}"
+
+
+SCENES = (("cornell_box", "1: diffuse"), ("cornell_teapot", "1: diffuse"),
+          ("cornell_glass", "2: diffuse, glass"), ("sky_showcase", "4: every kind"))
+SIZES = (64, 256, 512)
+ROWS = tuple(Row("scenes", scene, kernel, 256) for scene, _ in SCENES for kernel in KERNELS) \
+    + tuple(Row("sizes", "cornell_box", kernel, size) for size in SIZES if size != 256
+            for kernel in KERNELS)
+
+
+@dataclass
+class Settings:
+    spp: int = 32
+    depth: int = 6
+    repeat: int = 3
+
+
+def bench(binary: Path, settings: Settings) -> dict:
+    watch = bench_common.QuietWatch()
+    binaries = {"20": binary}
+    runs = {row.key: [] for row in ROWS}
+    print("bench wavefront: warm-up (1 spp, not timed) ...", flush=True)
+    first = None
+    for row in ROWS:
+        stats = run(binaries, row, row.size, 1, settings.depth)
+        first = first or stats
+    for round_number in range(1, settings.repeat + 1):
+        print(f"bench wavefront: round {round_number} of {settings.repeat} ...", flush=True)
+        for row in ROWS:
+            stats = run(binaries, row, row.size, settings.spp, settings.depth)
+            runs[row.key].append(stats)
+    return {"date": bench_common.today(), "machine": bench_common.describe_machine(first),
+            "settings": vars(settings),
+            "rows": {row.key: {"table": row.table, "scene": row.scene, "kernel": row.kernel,
+                               "size": row.size,
+                               "samples_per_second": bench_common.summarise(
+                                   [r["samples_per_second"] for r in runs[row.key]]),
+                               "rays_per_second": bench_common.summarise(
+                                   [r["rays_per_second"] for r in runs[row.key]])}
+                     for row in ROWS},
+            "quiet": watch.finish()}
+
+
+def speed(report: dict, table: str, scene: str, size: int, kernel: str) -> dict:
+    return report["rows"][f"{table}: {scene}: {size}: {kernel}"]["samples_per_second"]
+
+
+def table(report: dict, which: str) -> list[str]:
+    kinds = dict(SCENES)
+    first = "kinds of material" if which == "scenes" else "image"
+    lines = [f"| scene | {first} | kernel | samples/s | range of the runs (spread) | "
+             "rays/s | ÷ megakernel |", "| --- | --- | --- | ---: | ---: | ---: | ---: |"]
+    for row in report["rows"].values():
+        if row["table"] != which:
+            continue
+        samples = row["samples_per_second"]
+        base = speed(report, which, row["scene"], row["size"], "megakernel")["median"]
+        detail = kinds[row["scene"]] if which == "scenes" else f"{row['size']}²"
+        lines.append(f"| {row['scene']} | {detail} | {row['kernel']} | "
+                     f"{samples['median']:,.0f} | {bench_common.spread_words(samples)} | "
+                     f"{row['rays_per_second']['median']:,.0f} | "
+                     f"{samples['median'] / base:.2f}× |")
+    return lines
+
+
+def ratio_rows(report: dict) -> list[str]:
+    """The ratios a learner with a GPU compares with theirs (an empty column to fill)."""
+    lines = ["| wavefront ÷ megakernel, samples/s, 256² | this machine | your GPU |",
+             "| --- | ---: | ---: |"]
+    for scene, kinds in SCENES:
+        ratio = speed(report, "scenes", scene, 256, "wavefront")["median"] / \
+            speed(report, "scenes", scene, 256, "megakernel")["median"]
+        lines.append(f"| {scene} ({kinds}) | {ratio:.2f} | |")
+    return lines
+
+
+def page_table(report: dict) -> str:
+    s, machine = report["settings"], report["machine"]
+    heading = (f"Measured {report['date']} on {bench_common.machine_words(machine)}; "
+               f"{s['spp']} spp, depth {s['depth']}. Each figure is the median of "
+               f"{s['repeat']} runs, the rows taking turns, with the range of the runs. "
+               f"{bench_common.quiet_words(report['quiet'])}")
+    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes"), "",
+                      "The Cornell box at other sizes:", "", *table(report, "sizes"), "",
+                      "The ratios to compare with a GPU's (the same bench there):", "",
+                      *ratio_rows(report)])
+
+
+def main(binary: Path, settings: Settings, update_book: bool = False, page: Path = PAGE,
+         out_folder: Path = OUT) -> int:
+    report = bench(binary, settings)
+    out_folder.mkdir(parents=True, exist_ok=True)
+    out = out_folder / "wavefront.json"
+    out.write_text(json.dumps(report, indent=2) + "\n")
+    text = page_table(report)
+    print(text)
+    print(f"bench wavefront: wrote {out}")
+    bench_common.book_or_not(update_book, page, START, END, text)
+    return 0
