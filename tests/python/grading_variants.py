@@ -674,7 +674,7 @@ CATALOGUE["A1"] = CHAPTER_A1
 
 W = "20_wavefront"
 PUSH = """    uint place = atomicAdd(queues[queue].size, 1u);
-    queueItems[queue * pixelCount() + place] = pixel;
+    queueItems[queue * poolSize + place] = slot;
 """
 GROUPS = "    queues[queue].groupsX = (size + QUEUE_GROUP_SIZE - 1u) / QUEUE_GROUP_SIZE;\n"
 CAMERA_DRAWS = """    vec2 inPixel = random2(random);
@@ -693,7 +693,7 @@ CHAPTER_20 = [
              "        if (seen == place) break;\n"
              "        place = seen;\n"
              "    }\n"
-             "    queueItems[queue * pixelCount() + place] = pixel;\n"),)),
+             "    queueItems[queue * poolSize + place] = slot;\n"),)),
     Variant(W, "one work group for each item: wasteful, but every item runs", True, (
         Edit("shaders/wavefront_dispatch.comp", GROUPS,
              "    queues[queue].groupsX = size;\n"),)),
@@ -710,15 +710,15 @@ CHAPTER_20 = [
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = queues[queue].size;\n"
              "    queues[queue].size = place + 1u;\n"
-             "    queueItems[queue * pixelCount() + place] = pixel;\n"),)),
+             "    queueItems[queue * poolSize + place] = slot;\n"),)),
     Variant(W, "the items written without their queue's offset", False, (
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = atomicAdd(queues[queue].size, 1u);\n"
-             "    queueItems[place] = pixel;\n"),)),
-    Variant(W, "the place written into the queue instead of the pixel", False, (
+             "    queueItems[place] = slot;\n"),)),
+    Variant(W, "the place written into the queue instead of the slot", False, (
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = atomicAdd(queues[queue].size, 1u);\n"
-             "    queueItems[queue * pixelCount() + place] = place;\n"),)),
+             "    queueItems[queue * poolSize + place] = place;\n"),)),
     Variant(W, "work groups rounded down", False, (
         Edit("shaders/wavefront_dispatch.comp", GROUPS,
              "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE;\n"),)),
