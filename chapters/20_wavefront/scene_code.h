@@ -12,9 +12,9 @@
 
 // --8<-- [start:limits]
 // The limits of writing a scene into the shader. Each shape written out costs compile
-// time (llvmpipe: 0.05 to 0.1 s a shape) and saves less the more there are (the
-// Cornell box's 18 quads run 1.6x faster than through buffer textures, the sky
-// showcase's 51 spheres and quads 1.1x): past these, the automatic choice reads the
+// time (llvmpipe: 0.04 to 0.06 s a shape) and saves less the more there are (the
+// Cornell box's 18 quads run 2.0x faster than through buffer textures, the sky
+// showcase's 51 spheres and quads 1.2x): past these, the automatic choice reads the
 // scene through buffer textures instead (./course bench speed; the chapter's page).
 constexpr size_t kMostShapesInCode = 32;     // spheres and quads
 constexpr size_t kMostMaterialsInCode = 64;
