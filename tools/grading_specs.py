@@ -301,13 +301,13 @@ SPECS: dict[str, list[GradeTest]] = {
     # pixel) and the dispatch commands (enough work groups for every item). Either wrong
     # loses paths or traces the wrong ones, and the picture darkens or scrambles: judged
     # by statistics, as the megakernel's pictures are. The room by direct light first
-    # (one kind of material), the metals and glass (a queue per kind), the sky showcase
+    # (one kind of material), smooth and rough glass (a queue per kind), the sky showcase
     # after the due date.
     "20": [
         GradeTest("the room by direct light, through the wavefront", 4,
                   [*TINY, "--scene", "cornell_box", "--direct", *WAVEFRONT], "statistical",
                   sampling=PATH_SAMPLING),
-        GradeTest("metals and glass, through the wavefront", 3,
+        GradeTest("smooth and rough glass, through the wavefront", 3,
                   [*TINY, "--scene", "cornell_glass", *WAVEFRONT], "statistical",
                   sampling=PATH_SAMPLING),
         GradeTest("the sky showcase, through the wavefront", 3, [*TINY, *WAVEFRONT],
