@@ -4,6 +4,7 @@ that writes a table into a book page (only when --update-book asks for it)."""
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import re
@@ -192,3 +193,14 @@ def book_or_not(update_book: bool, page: Path, start: str, end: str, table: str)
         return
     if write_table(page, start, end, table):
         print(f"bench: wrote the table into {page}")
+
+
+def publish(report: dict, out: Path, table: str, update_book: bool, page: Path, start: str,
+            end: str):
+    """The end of a bench: every run in `out` (JSON), the table printed, and written into
+    the page only when asked (book_or_not)."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(report, indent=2) + "\n")
+    print(table)
+    print(f"bench: wrote {out}")
+    book_or_not(update_book, page, start, end, table)

@@ -210,11 +210,6 @@ def page_table(report: dict) -> str:
 def main(binaries: dict, settings: Settings, update_book: bool = False, page: Path = PAGE,
          out_folder: Path = OUT) -> int:
     report = bench(binaries, settings)
-    out_folder.mkdir(parents=True, exist_ok=True)
-    out = out_folder / "speed.json"
-    out.write_text(json.dumps(report, indent=2) + "\n")
-    text = page_table(report)
-    print(text)
-    print(f"bench speed: wrote {out}")
-    bench_common.book_or_not(update_book, page, START, END, text)
+    bench_common.publish(report, out_folder / "speed.json", page_table(report), update_book,
+                         page, START, END)
     return 0

@@ -17,7 +17,6 @@ tables; writes them into chapter 20's page only with --update-book."""
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -137,11 +136,6 @@ def page_table(report: dict) -> str:
 def main(binary: Path, settings: Settings, update_book: bool = False, page: Path = PAGE,
          out_folder: Path = OUT) -> int:
     report = bench(binary, settings)
-    out_folder.mkdir(parents=True, exist_ok=True)
-    out = out_folder / "wavefront.json"
-    out.write_text(json.dumps(report, indent=2) + "\n")
-    text = page_table(report)
-    print(text)
-    print(f"bench wavefront: wrote {out}")
-    bench_common.book_or_not(update_book, page, START, END, text)
+    bench_common.publish(report, out_folder / "wavefront.json", page_table(report), update_book,
+                         page, START, END)
     return 0
