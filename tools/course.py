@@ -291,8 +291,10 @@ def build_sanitized():
 # pass checks the same builder and traversal on the smaller meshes of the other tests.
 SLOW_WHEN_SANITIZED = "BigTeapots|TraversalFindsWhatBruteForceFinds"
 
-# What a chapter's sanitized run renders: small and quick; chapter 01 adds numbers.
+# What a chapter's sanitized run renders: small and quick; chapter 01 adds numbers, and
+# chapter 20 runs its wavefront (the host code the megakernel does not use), in waves.
 SANITIZER_RUN_ARGUMENTS = {"01_buffer_add": ["--count", "1000"]}
+SANITIZER_EXTRA_ARGUMENTS = {"20_wavefront": ["--kernel", "wavefront", "--paths", "100"]}
 
 
 def sanitized_chapter_runs() -> tuple[int, int]:
@@ -304,7 +306,8 @@ def sanitized_chapter_runs() -> tuple[int, int]:
         for name in chapters():
             arguments = SANITIZER_RUN_ARGUMENTS.get(name) or [
                 "--width", "24", "--height", "24", "--out", f"{folder}/{name}.png"]
-            command = [str(SANITIZED / "bin" / name), "--headless", *arguments]
+            command = [str(SANITIZED / "bin" / name), "--headless", *arguments,
+                       *SANITIZER_EXTRA_ARGUMENTS.get(name, [])]
             result = subprocess.run(command, capture_output=True, text=True, timeout=600,
                                     env=sanitizer_environment())
             if result.returncode == 0:
