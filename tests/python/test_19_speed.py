@@ -34,7 +34,8 @@ import json
 import numpy as np
 import path_checks
 import pytest
-from conftest import ROOT, read_pfm, run_chapter
+from conftest import ROOT, run_chapter
+from path_checks import path_trace
 
 WAYS = {
     "constants": ["--scene-memory", "constants"],
@@ -47,20 +48,13 @@ WAYS = {
 SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
 
 
-def render(tmp_path, chapter, name, *args) -> np.ndarray:
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter(chapter, "--headless", "--out", out, *map(str, args))
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3]
-
-
 @pytest.mark.parametrize("scene", ["cornell_metals", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_every_way_of_reading_the_scene_draws_chapter_18s_picture(tmp_path, scene):
-    reference = render(tmp_path, "18", "chapter18", "--scene", scene, *SMALL)
+    reference = path_trace("18", tmp_path, "chapter18", "--scene", scene, *SMALL)
     for way, options in WAYS.items():
-        image = render(tmp_path, "19", way.replace(" ", "_"), "--scene", scene, *SMALL,
-                       *options)
+        image = path_trace("19", tmp_path, way.replace(" ", "_"), "--scene", scene, *SMALL,
+                           *options)
         path_checks.assert_same_picture(image, reference, f"{scene}, {way}")
 
 
@@ -70,10 +64,10 @@ def test_a_wrong_way_of_reading_the_spheres_is_caught(tmp_path):
         "19", tmp_path / "shaders",
         ("scene_memory.glsl", "return Sphere(a.xyz, a.w, b.x, b.y, 0u, 0u);",
          "return Sphere(a.xyz, a.x, b.x, b.y, 0u, 0u);"))
-    reference = render(tmp_path, "19", "right", "--scene", "cornell_metals", *SMALL,
-                       "--scene-memory", "texture")
-    wrong = render(tmp_path, "19", "wrong", "--scene", "cornell_metals", *SMALL,
-                   "--scene-memory", "texture", "--shader-dir", shaders)
+    reference = path_trace("19", tmp_path, "right", "--scene", "cornell_metals", *SMALL,
+                           "--scene-memory", "texture")
+    wrong = path_trace("19", tmp_path, "wrong", "--scene", "cornell_metals", *SMALL,
+                       "--scene-memory", "texture", "--shader-dir", shaders)
     with pytest.raises(AssertionError):
         path_checks.assert_same_picture(wrong, reference, "the planted mistake")
 
@@ -125,8 +119,8 @@ def test_at_the_limit_and_past_it_the_picture_is_the_generic_shaders(tmp_path, s
                                                                      way):
     scene = spheres_scene(tmp_path / f"spheres_{spheres}.scene", spheres)
     assert stats(tmp_path, "--scene", scene)["scene_memory"] == way
-    fast = render(tmp_path, "19", "fast", "--scene", scene, *SMALL)
-    generic = render(tmp_path, "19", "generic", "--scene", scene, *SMALL, "--generic")
+    fast = path_trace("19", tmp_path, "fast", "--scene", scene, *SMALL)
+    generic = path_trace("19", tmp_path, "generic", "--scene", scene, *SMALL, "--generic")
     path_checks.assert_same_picture(fast, generic, f"{spheres} spheres through {way}")
     assert fast.mean() > 0.01  # lit, not black
 
@@ -138,8 +132,8 @@ def test_the_gpu_timer_times_the_render(tmp_path):
 
 
 def test_the_fast_path_agrees_with_mitsuba(tmp_path):
-    ours = render(tmp_path, "19", "ours", "--scene", "cornell_box", "--width", "96",
-                  "--height", "96", "--spp", "256")
+    ours = path_trace("19", tmp_path, "ours", "--scene", "cornell_box", "--width", "96",
+                      "--height", "96", "--spp", "256")
     scene_file = ROOT / "assets" / "scenes" / "cornell_box.scene"
     compared = path_checks.assert_agrees_with_mitsuba(ours, 512, scene_file)
     assert len(compared) >= 5, compared

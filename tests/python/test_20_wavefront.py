@@ -32,17 +32,11 @@ import json
 
 import path_checks
 import pytest
-from conftest import ROOT, read_pfm, run_chapter
+from conftest import ROOT, run_chapter
+from path_checks import path_trace
 
 SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
 WAVEFRONT = ["--kernel", "wavefront"]
-
-
-def render(tmp_path, chapter, name, *args):
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter(chapter, "--headless", "--out", out, *map(str, args))
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3]
 
 
 # Every material kind, under the sky; a textured mesh through the tree and a lens; an
@@ -50,10 +44,10 @@ def render(tmp_path, chapter, name, *args):
 @pytest.mark.parametrize("scene", ["sky_showcase", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_both_kernels_draw_chapter_19s_picture(tmp_path, scene):
-    reference = render(tmp_path, "19", "chapter19", "--scene", scene, *SMALL)
-    megakernel = render(tmp_path, "20", "megakernel", "--scene", scene, *SMALL)
+    reference = path_trace("19", tmp_path, "chapter19", "--scene", scene, *SMALL)
+    megakernel = path_trace("20", tmp_path, "megakernel", "--scene", scene, *SMALL)
     path_checks.assert_same_picture(megakernel, reference, f"{scene}, megakernel")
-    wavefront = render(tmp_path, "20", "wavefront", "--scene", scene, *SMALL, *WAVEFRONT)
+    wavefront = path_trace("20", tmp_path, "wavefront", "--scene", scene, *SMALL, *WAVEFRONT)
     path_checks.assert_same_picture(wavefront, reference, f"{scene}, wavefront")
 
 
@@ -64,8 +58,8 @@ def test_both_kernels_draw_chapter_19s_picture(tmp_path, scene):
                          ids=["nee", "bsdf", "direct", "depth_1000", "generic", "storage"])
 def test_the_wavefront_draws_the_megakernels_picture_with_every_option(tmp_path, options):
     scene = ["--scene", "lens_textures"]
-    megakernel = render(tmp_path, "20", "megakernel", *scene, *SMALL, *options)
-    wavefront = render(tmp_path, "20", "wavefront", *scene, *SMALL, *options, *WAVEFRONT)
+    megakernel = path_trace("20", tmp_path, "megakernel", *scene, *SMALL, *options)
+    wavefront = path_trace("20", tmp_path, "wavefront", *scene, *SMALL, *options, *WAVEFRONT)
     path_checks.assert_same_picture(wavefront, megakernel, " ".join(options))
     assert wavefront.mean() > 0.01  # lit, not black
 
@@ -79,9 +73,9 @@ def test_the_wavefront_draws_the_megakernels_picture_with_every_option(tmp_path,
 def test_a_wrong_wavefront_is_caught(tmp_path, bug):
     shaders = path_checks.shaders_with_bug("20", tmp_path / "shaders", bug)
     scene = ["--scene", "cornell_metals"]
-    reference = render(tmp_path, "20", "right", *scene, *SMALL, *WAVEFRONT)
-    wrong = render(tmp_path, "20", "wrong", *scene, *SMALL, *WAVEFRONT,
-                   "--shader-dir", shaders)
+    reference = path_trace("20", tmp_path, "right", *scene, *SMALL, *WAVEFRONT)
+    wrong = path_trace("20", tmp_path, "wrong", *scene, *SMALL, *WAVEFRONT,
+                       "--shader-dir", shaders)
     with pytest.raises(AssertionError):
         path_checks.assert_same_picture(wrong, reference, "the planted mistake")
 
@@ -90,8 +84,8 @@ def test_the_wavefronts_brute_force_draws_the_trees_picture(tmp_path):
     # 6 320 triangles tested for every ray: the megakernel's path needs 2 x 7 times as
     # many loop iterations, past Mesa 22's limit; a wavefront kernel traces one ray.
     scene = ["--scene", "cornell_teapot", "--width", "32", "--height", "32", "--spp", "2"]
-    tree = render(tmp_path, "20", "tree", *scene)
-    brute = render(tmp_path, "20", "brute", *scene, "--brute-force", *WAVEFRONT)
+    tree = path_trace("20", tmp_path, "tree", *scene)
+    brute = path_trace("20", tmp_path, "brute", *scene, "--brute-force", *WAVEFRONT)
     path_checks.assert_same_picture(brute, tree, "brute force through the wavefront")
 
 
@@ -104,8 +98,8 @@ def test_other_views_need_the_megakernel(tmp_path):
 
 
 def test_the_wavefront_agrees_with_mitsuba(tmp_path):
-    ours = render(tmp_path, "20", "ours", "--scene", "cornell_box", "--width", "96",
-                  "--height", "96", "--spp", "256", *WAVEFRONT)
+    ours = path_trace("20", tmp_path, "ours", "--scene", "cornell_box", "--width", "96",
+                      "--height", "96", "--spp", "256", *WAVEFRONT)
     scene_file = ROOT / "assets" / "scenes" / "cornell_box.scene"
     compared = path_checks.assert_agrees_with_mitsuba(ours, 512, scene_file)
     assert len(compared) >= 5, compared
@@ -122,8 +116,8 @@ def test_a_pool_smaller_than_the_image_runs_it_in_waves(tmp_path):
     # 48 x 48 = 2 304 pixels through 1 000 path slots: waves of 1 000, 1 000 and 304.
     scene = ["--scene", "sky_showcase", *SMALL]
     assert wavefront_stats(tmp_path, *scene, "--paths", 1000)["paths_in_flight"] == 1000
-    megakernel = render(tmp_path, "20", "megakernel", *scene)
-    waves = render(tmp_path, "20", "waves", *scene, *WAVEFRONT, "--paths", "1000")
+    megakernel = path_trace("20", tmp_path, "megakernel", *scene)
+    waves = path_trace("20", tmp_path, "waves", *scene, *WAVEFRONT, "--paths", "1000")
     path_checks.assert_same_picture(waves, megakernel, "three waves of the image")
 
 
@@ -134,6 +128,6 @@ def test_a_large_image_takes_as_many_paths_as_the_gl_allows(tmp_path):
              "1", "--depth", "2"]
     paths = wavefront_stats(tmp_path, *scene)["paths_in_flight"]
     assert 0 < paths <= 1024 * 1024
-    megakernel = render(tmp_path, "20", "megakernel", *scene)
-    wavefront = render(tmp_path, "20", "wavefront", *scene, *WAVEFRONT)
+    megakernel = path_trace("20", tmp_path, "megakernel", *scene)
+    wavefront = path_trace("20", tmp_path, "wavefront", *scene, *WAVEFRONT)
     path_checks.assert_same_picture(wavefront, megakernel, f"waves of {paths} paths")
