@@ -111,13 +111,18 @@ def table(report: dict, which: str) -> list[str]:
 
 
 def ratio_rows(report: dict) -> list[str]:
-    """The ratios a learner with a GPU compares with theirs (an empty column to fill)."""
-    lines = ["| wavefront ÷ megakernel, samples/s, 256² | this machine | your GPU |",
+    """The ratios a learner with a GPU compares with theirs (an empty column to fill):
+    the scenes table's, wavefront over megakernel, at the size that table was run at."""
+    kinds = dict(SCENES)
+    wavefronts = [row for row in report["rows"].values()
+                  if row["table"] == "scenes" and row["kernel"] == "wavefront"]
+    size = wavefronts[0]["size"] if wavefronts else 0
+    lines = [f"| wavefront ÷ megakernel, samples/s, {size}² | this machine | your GPU |",
              "| --- | ---: | ---: |"]
-    for scene, kinds in SCENES:
-        ratio = speed(report, "scenes", scene, 256, "wavefront")["median"] / \
-            speed(report, "scenes", scene, 256, "megakernel")["median"]
-        lines.append(f"| {scene} ({kinds}) | {ratio:.2f} | |")
+    for row in wavefronts:
+        base = speed(report, "scenes", row["scene"], row["size"], "megakernel")
+        ratio = row["samples_per_second"]["median"] / base["median"]
+        lines.append(f"| {row['scene']} ({kinds[row['scene']]}) | {ratio:.2f} | |")
     return lines
 
 

@@ -127,16 +127,20 @@ SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene&
 }
 // --8<-- [end:choose]
 
+uint32_t materialKindBits(const GpuScene& scene) {
+    uint32_t kinds = 0;
+    for (const gpu::Material& m : scene.materials) kinds |= 1u << m.kind;
+    return kinds;
+}
+
 // --8<-- [start:write]
 std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
                            bool hasEnvironment) {
     // What the scene uses; a generic shader assumes everything.
-    uint32_t kinds = 0;
+    uint32_t kinds = materialKindBits(scene);
     bool textured = false;
-    for (const gpu::Material& m : scene.materials) {
-        kinds |= 1u << m.kind;
+    for (const gpu::Material& m : scene.materials)
         textured = textured || m.textureIndex != NO_TEXTURE;
-    }
     const bool all = !choice.specialised;
     std::ostringstream code;
     code << "// Written by the program for this scene (chapters/20_wavefront/scene_code.cpp).\n"

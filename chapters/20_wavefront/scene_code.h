@@ -1,9 +1,10 @@
 // Specialisation: the host writes part of the shader for the scene it is about to
-// render, scene_code.glsl, which path_tracer.glsl includes. It holds the scene's counts, the
-// features it uses (material kinds, textures, environment, triangles) as numbers the
+// render, scene_code.glsl, which path_tracer.glsl includes. It holds the scene's counts,
+// the features it uses (material kinds, textures, environment, triangles) as numbers the
 // compiler folds, and which way the shaders read the scene (scene_memory.glsl); for a
 // small scene, the scene itself as constant arrays.
 #pragma once
+#include <cstdint>
 #include <string>
 
 #include "course/cli.h"
@@ -46,6 +47,10 @@ struct SceneCodeChoice {
 // code 4, when they are bound.)
 SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene& scene,
                                 const std::string& scenePath);
+
+// A bit for each kind of material the scene's materials have (1 << MATERIAL_DIFFUSE,
+// ...): MATERIAL_KINDS in scene_code.glsl, and the wavefront's shading kernels.
+uint32_t materialKindBits(const GpuScene& scene);
 
 // The text of scene_code.glsl for this scene. `hasEnvironment`: an environment map
 // lights it.

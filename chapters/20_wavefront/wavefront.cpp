@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "scene_code.h"
 #include "shared.h"
 #include "wavefront_layout.h"
 
@@ -10,8 +11,7 @@ namespace {
 
 // The kinds of material the scene's shapes have: the shading kernels to compile.
 std::vector<uint32_t> materialKinds(const GpuScene& scene) {
-    uint32_t bits = 0;
-    for (const gpu::Material& m : scene.materials) bits |= 1u << m.kind;
+    uint32_t bits = materialKindBits(scene);
     std::vector<uint32_t> kinds;
     for (uint32_t kind = 0; kind < QUEUE_SHADOW - QUEUE_SHADE; ++kind)
         if (bits & (1u << kind)) kinds.push_back(kind);
