@@ -1,6 +1,7 @@
 // Chapter 20: wavefront path tracing. Chapter 19's path tracer, run two ways: as one
 // kernel that follows each pixel's path to its end (the megakernel, path.comp), or as
 // kernels that each do one step for a queue of paths (--kernel wavefront, wavefront.h).
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -8,13 +9,13 @@
 #include "camera.h"
 #include "course/fly_camera.h"
 #include "course/log.h"
-#include "course/loop_budget.h"
 #include "course/scene_file.h"
 #include "course/session.h"
 #include "display.h"
 #include "environment.h"
 #include "gpu_scene.h"
 #include "gpu_timer.h"
+#include "kernel_options.h"
 #include "scene_code.h"
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 #include "wavefront.h"
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
     cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
                "the GPU between them (the same image)", &batches, 1, 1 << 20);
     KernelOptions kernel;
-    declareKernelOptions(cli, kernel);  // --kernel megakernel|wavefront, --paths
+    declareKernelOptions(cli, kernel);  // --kernel, --paths, --samples-per-dispatch
     bool bruteForce = false;
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
              "(chapter 12's way: for comparisons)", &bruteForce);
@@ -69,17 +70,13 @@ int main(int argc, char** argv) {
                        parameters);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordSceneStats(scene, session.stats());  // shapes, triangles, the tree ...
-        // Each bounce loops over the shapes twice (nearest hit, shadow ray): with the
-        // tree, only spheres and quads, and its own steps are a few hundred per ray. (A
-        // wavefront kernel traces one ray: a path's bounces are rounds of dispatches.)
-        size_t looped = scene.spheres.size() + scene.quads.size();
-        if (bruteForce) looped = scene.shapeCount();
-        bool wholePaths = view == "radiance" && kernel.kernel == "megakernel";
-        size_t rounds = wholePaths ? size_t(depth) + 1 : 1;
-        const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
-                                        : "Fewer spheres and quads, or a lower --depth, fit.";
-        course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
-                                 2 * rounds, wayOut});
+        PathLoops loops{sceneFile.path, scene.spheres.size() + scene.quads.size(),
+                        bruteForce, !scene.triangles.empty() && !bruteForce, depth,
+                        view == "radiance" && kernel.kernel == "megakernel"};
+        if (bruteForce) loops.shapes = scene.shapeCount();
+        checkPathLoops(loops);  // exit code 4 if the GL's loop limit would cut them short
+        const int perDispatch = samplesPerDispatch(kernel, loops, size_t(width) * height);
+        session.stats().set("samples_per_dispatch", perDispatch);
         // --8<-- [start:scene_code]
         // The shader's part written for this scene (scene_code.glsl), and how it reads
         // the scene: constants for a small scene, buffer textures otherwise.
@@ -107,9 +104,9 @@ int main(int argc, char** argv) {
 
         // --8<-- [start:dispatch]
         // 3. Chapter 09's seeding and progressive loop, with the path tracer as the
-        //    sample. What a dispatch reads besides the buffers is one uniform block,
-        //    gpu::PathParameters (shared.h), written before each dispatch: the sample
-        //    count grows, and the fly camera may have moved.
+        //    sample: a dispatch of the megakernel adds perDispatch samples to each pixel,
+        //    the wavefront one. What a dispatch reads besides the buffers is one uniform
+        //    block, gpu::PathParameters (shared.h), written before each dispatch.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram* path = nullptr;  // the megakernel, or
         std::optional<Wavefront> wavefront;     // --kernel wavefront: its kernels, queues
@@ -132,14 +129,16 @@ int main(int argc, char** argv) {
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
         unsigned samples = 0;
-        auto addSample = [&] {
+        auto addSamples = [&](unsigned count) {  // the megakernel's dispatch adds `count`
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // read what the last wrote
             parameters.camera = thinLensCamera(
                 makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth),
                 c.lensRadius, c.focusDistance);
-            parameters.sampleIndex = samples++;
+            parameters.sampleIndex = samples;
+            parameters.samplesThisDispatch = count;
+            samples += count;
             parameterBuffer.write(&parameters, sizeof parameters);
-            if (wavefront) wavefront->addSample(depth);
+            if (wavefront) wavefront->addSample(depth);  // count is 1
             else path->dispatchCovering(width, height);
         };
         GpuTimer gpuTimer;  // the render as the GPU timed it
@@ -150,8 +149,9 @@ int main(int argc, char** argv) {
             samples = 0;
             for (int batch = 0; batch < batches; ++batch) {
                 int end = options.spp * (batch + 1) / batches;  // --batches: the same
-                while (int(samples) < end) addSample();         // dispatches, the GPU
-                course::waitForGpu();                           // idle in between
+                while (int(samples) < end)                      // dispatches, the GPU
+                    addSamples(std::min(perDispatch, end - int(samples)));  // idle between
+                course::waitForGpu();
             }
             gpuTimer.stop();
         };
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
             if (scriptCameraMove && frame == 2) input = {{0, 0, 1}, {0, 0}, 1.0f};
             if (fly.update(input)) samples = 0;  // start over; the streams go on
             adjustDisplay(session.context().window(), keys, parameters);
-            addSample();
+            addSamples(1);  // a frame adds one sample, and comes back soon
         };
         // --8<-- [end:window]
         session.finish(image, render, eachFrame);

@@ -38,14 +38,6 @@ uint32_t mostPathSlots() {
 
 }  // namespace
 
-void declareKernelOptions(course::CommandLine& cli, KernelOptions& options) {
-    cli.choice("--kernel", "one kernel per path, or one per step over queues of paths",
-               {"megakernel", "wavefront"}, &options.kernel);
-    cli.option("--paths", "N", "wavefront: paths in flight at once, the image in waves of "
-               "N pixels (default: every pixel, or as many as the GL allows)",
-               &options.paths, 1, 1 << 30);
-}
-
 Wavefront::Wavefront(course::Session& session, const GpuScene& scene,
                      const std::string& sceneCode, int width, int height, int paths)
     : pixels_(size_t(width) * height),

@@ -13,17 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "course/cli.h"
 #include "course/gpu_buffer.h"
 #include "course/session.h"
 #include "gpu_scene.h"
-
-// How the path tracer runs, from the command line.
-struct KernelOptions {
-    std::string kernel = "megakernel";  // --kernel: megakernel or wavefront
-    int paths = 0;  // --paths: the wavefront's pool of path slots; 0: as many as fit
-};
-void declareKernelOptions(course::CommandLine& cli, KernelOptions& options);
 
 class Wavefront {
 public:

@@ -1,11 +1,11 @@
 #version 430 core
 // Chapter 20: chapter 19's path tracer as a megakernel, one invocation running a
-// pixel's whole path: the steps of path_steps.glsl in a loop, the shadow ray traced
+// pixel's whole paths: the steps of path_steps.glsl in a loop, the shadow ray traced
 // where next-event estimation makes it. (--kernel wavefront runs the same steps as
-// kernels of their own: wavefront_*.comp.) Each dispatch adds one sample to every
-// pixel; the image holds the running mean. --view shows what the camera rays hit
-// (normals, distance, albedo, texture coordinates), how hard the tree worked for them,
-// or random bounce rays.
+// kernels of their own: wavefront_*.comp.) Each dispatch adds samplesThisDispatch
+// samples to every pixel; the image holds the running mean. --view shows what the
+// camera rays hit (normals, distance, albedo, texture coordinates), how hard the tree
+// worked for them, or random bounce rays, one sample a dispatch.
 #include "path_tracer.glsl"
 
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
@@ -13,8 +13,9 @@ layout(std430, binding = PIXELS_BINDING) buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
 
-// imageSize, sampleIndex, maxBounces (--depth), estimator and the camera come in the
-// PathParameters uniform block (shared.h), and so do view and occlusionDistance.
+// imageSize, sampleIndex, samplesThisDispatch, maxBounces (--depth), estimator and the
+// camera come in the PathParameters uniform block (shared.h), and so do view and
+// occlusionDistance.
 
 // VIEW_BOUNCE: where each pixel's camera ray hit (w = 1) or that it hit nothing (w = 0),
 // found by the first dispatch; every dispatch then traces one random ray from there.
@@ -27,24 +28,38 @@ layout(std430, binding = BOUNCE_START_BINDING) buffer BounceStarts {
 };
 
 // --8<-- [start:path]
-// One path's estimate of the radiance arriving along `ray`, as one loop per pixel: the
-// megakernel. Each turn traces the path's ray, then shades what it hit (path_steps.glsl)
-// and traces next-event estimation's shadow ray, until the path ends.
-vec3 tracePath(Ray ray, inout RandomState random, inout uint rays) {
-    PathState path = startPath(ray);
+// A random point of the pixel (anti-aliasing) and of the lens (depth of field).
+Ray cameraRay(uvec2 pixel, inout RandomState random) {
+    vec2 inPixel = random2(random);
+    return primaryRay(pixel, imageSize, inPixel, random2(random));
+}
+
+// The megakernel: samplesThisDispatch samples of the pixel, added to its running mean
+// in one loop. Each turn traces the path's ray, then shades what it hit (path_steps.glsl)
+// and traces next-event estimation's shadow ray. A path that ends makes way at once for
+// the pixel's next sample (path regeneration), so a lane waits for its group's longest
+// path only at the end of the dispatch, not at the end of every sample. The random
+// numbers and the sums come in the order of one sample a dispatch: the same picture.
+vec3 addSamples(uvec2 pixel, vec3 mean, inout RandomState random, inout uint rays) {
+    uint done = 0u;
+    PathState path = startPath(cameraRay(pixel, random));
     for (;;) {
         Hit hit;
+        bool goesOn = false;
         rays += 1u;
         if (!nearestHit(path.ray, 0.0, FOREVER, hit)) {
             leaveScene(path);
-            break;
+        } else {
+            ShadowRay shadow;
+            goesOn = shadeHit(path, hit, random, shadow);
+            path.radiance += shadowRayLight(shadow, rays);
         }
-        ShadowRay shadow;
-        bool goesOn = shadeHit(path, hit, random, shadow);
-        path.radiance += shadowRayLight(shadow, rays);
-        if (!goesOn) break;
+        if (goesOn) continue;
+        done += 1u;  // as chapter 09: the running mean, one sample at a time
+        mean += (path.radiance - mean) / float(sampleIndex + done);
+        if (done == samplesThisDispatch) return mean;
+        path = startPath(cameraRay(pixel, random));  // the next sample, in this lane
     }
-    return path.radiance;
 }
 // --8<-- [end:path]
 
@@ -108,21 +123,17 @@ void main() {
     // and the image holds the running mean of the samples.
     RandomState random = randomStates[index];
     uint rays = sampleIndex == 0u ? 0u : rayCounts[index];
-    vec3 radiance;
+    vec3 mean = sampleIndex == 0u ? vec3(0.0) : pixels[index].rgb;
     if (view == VIEW_RADIANCE) {
-        // A random point of the pixel (anti-aliasing) and of the lens (depth of field).
-        vec2 inPixel = random2(random);
-        Ray ray = primaryRay(pixel, imageSize, inPixel, random2(random));
-        radiance = tracePath(ray, random, rays);
-    } else {  // the other views look through the pixel's centre and the lens's
+        mean = addSamples(pixel, mean, random, rays);
+    } else {  // the other views look through the pixel's centre and the lens's, once
         Ray ray = primaryRay(pixel, imageSize, vec2(0.5), vec2(0.5));
-        radiance = view == VIEW_BOUNCE ? bounceView(index, ray, random, rays)
-                                       : firstHitView(ray, rays);
+        vec3 value = view == VIEW_BOUNCE ? bounceView(index, ray, random, rays)
+                                         : firstHitView(ray, rays);
+        mean += (value - mean) / float(sampleIndex + 1u);
     }
     randomStates[index] = random;
     rayCounts[index] = rays;
-    vec3 mean = sampleIndex == 0u ? vec3(0.0) : pixels[index].rgb;
-    mean += (radiance - mean) / float(sampleIndex + 1u);
     pixels[index] = vec4(mean, 1.0);
     // --8<-- [end:accumulate]
 }

@@ -209,6 +209,8 @@ layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
     float environmentChance;
     float exposure;    // --exposure EV: the image is multiplied by 2^EV before display
     int toneMap;       // TONE_MAP_CLAMP, _REINHARD, _ACES or _FALSE_COLOUR
+    uint samplesThisDispatch;  // path.comp: the samples each pixel adds in this dispatch
+    uint unused1, unused2, unused3;  // the block's size a multiple of 16 bytes, as std140's
 };
 
 // How radiance becomes a displayed value (--tone-map; tone_mapping.glsl).
@@ -263,7 +265,8 @@ static_assert(offsetof(PathParameters, imageSize) == 64 &&
                   offsetof(PathParameters, environmentFirstTexel) == 100 &&
                   offsetof(PathParameters, environmentChance) == 116 &&
                   offsetof(PathParameters, exposure) == 120 &&
-                  sizeof(PathParameters) == 128,
+                  offsetof(PathParameters, samplesThisDispatch) == 128 &&
+                  sizeof(PathParameters) == 144,
               "std140 PathParameters");
 }  // namespace gpu
 #endif
