@@ -2,10 +2,12 @@
 median of repeated runs that take turns, on one machine, in one run of the bench.
 
 - **The kernels**: chapter 20's megakernel (one invocation follows a pixel's path to
-  its end) against its wavefront (a kernel per step over queues of paths), on scenes
-  of one, two and four kinds of material: the Cornell box (18 quads, diffuse), the
-  teapot in the Cornell room (6 320 triangles through the tree), the glass and metal
-  spheres in the room, and the sky showcase (50 spheres of every kind, the sky).
+  its end) one sample a dispatch, as chapter 19 runs it; the same megakernel
+  regenerating paths (as many samples a dispatch as it chooses: its default); and its
+  wavefront (a kernel per step over queues of paths). On scenes of one, two and four
+  kinds of material: the Cornell box (18 quads, diffuse), the teapot in the Cornell
+  room (6 320 triangles through the tree), the glass and metal spheres in the room,
+  and the sky showcase (50 spheres of every kind, the sky).
 - **The image's size**: the Cornell box at 64², 256² and 512². A wavefront runs some
   forty dispatches for each sample, whatever the image's size: its fixed cost shows
   in a small image.
@@ -27,20 +29,24 @@ ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "book" / "docs" / "chapters" / "20_wavefront.md"
 START, END = "<!-- wavefront:start -->", "<!-- wavefront:end -->"
 OUT = ROOT / "build" / "bench"
-KERNELS = ("megakernel", "wavefront")
+# The ways of running chapter 20 that the bench compares, and their options.
+KERNELS = {"megakernel": ("--kernel", "megakernel", "--samples-per-dispatch", "1"),
+           "regenerating": ("--kernel", "megakernel"),
+           "wavefront": ("--kernel", "wavefront")}
+BASE = "megakernel"  # the speeds are given as multiples of its
 
 
 @dataclass(frozen=True)
 class Row:
     table: str    # "scenes" or "sizes"
     scene: str    # assets/scenes/NAME.scene
-    kernel: str   # --kernel
+    kernel: str   # a key of KERNELS
     size: int     # width and height
     chapter: str = "20"
 
     @property
     def options(self) -> tuple:
-        return ("--kernel", self.kernel)
+        return KERNELS[self.kernel]
 
     @property
     def key(self) -> str:
@@ -79,7 +85,8 @@ def bench(binary: Path, settings: Settings) -> dict:
     return {"date": bench_common.today(), "machine": bench_common.describe_machine(first),
             "settings": vars(settings),
             "rows": {row.key: {"table": row.table, "scene": row.scene, "kernel": row.kernel,
-                               "size": row.size,
+                               "size": row.size, "samples_per_dispatch":
+                                   runs[row.key][0]["samples_per_dispatch"],
                                "samples_per_second": bench_common.summarise(
                                    [r["samples_per_second"] for r in runs[row.key]]),
                                "rays_per_second": bench_common.summarise(
@@ -95,15 +102,17 @@ def speed(report: dict, table: str, scene: str, size: int, kernel: str) -> dict:
 def table(report: dict, which: str) -> list[str]:
     kinds = dict(SCENES)
     first = "kinds of material" if which == "scenes" else "image"
-    lines = [f"| scene | {first} | kernel | samples/s | range of the runs (spread) | "
-             "rays/s | ÷ megakernel |", "| --- | --- | --- | ---: | ---: | ---: | ---: |"]
+    lines = [f"| scene | {first} | kernel | samples a dispatch | samples/s | "
+             f"range of the runs (spread) | rays/s | ÷ {BASE} |",
+             "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |"]
     for row in report["rows"].values():
         if row["table"] != which:
             continue
         samples = row["samples_per_second"]
-        base = speed(report, which, row["scene"], row["size"], "megakernel")["median"]
+        base = speed(report, which, row["scene"], row["size"], BASE)["median"]
         detail = kinds[row["scene"]] if which == "scenes" else f"{row['size']}²"
         lines.append(f"| {row['scene']} | {detail} | {row['kernel']} | "
+                     f"{row['samples_per_dispatch']} | "
                      f"{samples['median']:,.0f} | {bench_common.spread_words(samples)} | "
                      f"{row['rays_per_second']['median']:,.0f} | "
                      f"{samples['median'] / base:.2f}× |")
@@ -111,18 +120,22 @@ def table(report: dict, which: str) -> list[str]:
 
 
 def ratio_rows(report: dict) -> list[str]:
-    """The ratios a learner with a GPU compares with theirs (an empty column to fill):
-    the scenes table's, wavefront over megakernel, at the size that table was run at."""
+    """The ratios a learner with a GPU compares with theirs (empty columns to fill): the
+    scenes table's, each other kernel over the megakernel, at the size that table was
+    run at."""
     kinds = dict(SCENES)
-    wavefronts = [row for row in report["rows"].values()
-                  if row["table"] == "scenes" and row["kernel"] == "wavefront"]
-    size = wavefronts[0]["size"] if wavefronts else 0
-    lines = [f"| wavefront ÷ megakernel, samples/s, {size}² | this machine | your GPU |",
-             "| --- | ---: | ---: |"]
-    for row in wavefronts:
-        base = speed(report, "scenes", row["scene"], row["size"], "megakernel")
-        ratio = row["samples_per_second"]["median"] / base["median"]
-        lines.append(f"| {row['scene']} ({kinds[row['scene']]}) | {ratio:.2f} | |")
+    others = [kernel for kernel in KERNELS if kernel != BASE]
+    rows = [row for row in report["rows"].values() if row["table"] == "scenes"]
+    size = rows[0]["size"] if rows else 0
+    lines = [f"| samples/s ÷ {BASE}'s, {size}² | "
+             + " | ".join(f"{kernel}: this machine | {kernel}: your GPU" for kernel in others)
+             + " |", "| --- |" + " ---: | ---: |" * len(others)]
+    for scene in dict.fromkeys(row["scene"] for row in rows):
+        base = speed(report, "scenes", scene, size, BASE)["median"]
+        ratios = [speed(report, "scenes", scene, size, kernel)["median"] / base
+                  for kernel in others]
+        cells = [cell for ratio in ratios for cell in (f"{ratio:.2f}", "")]
+        lines.append(f"| {scene} ({kinds[scene]}) | " + " | ".join(cells) + " |")
     return lines
 
 

@@ -6,14 +6,16 @@
 
 namespace {
 
+// --8<-- [start:limits]
 // Loop iterations a bounce may run besides its shape loops: the bounce loop's own turn
 // and the environment's two binary searches (at most 32 steps each).
 constexpr long long kOtherIterationsPerBounce = 1 + 64;
 
 // The most paths one dispatch traces. A GPU's driver ends work that runs for seconds
-// (its watchdog), and a big image already gives every lane work: 2^21 paths is a
-// 1448 x 1448 image's single sample, or 256 x 256's 32.
-constexpr long long kMostPathsPerDispatch = 1 << 21;
+// (its watchdog), and a big image already gives every lane work: 2^22 paths is a
+// 2048 x 2048 image's single sample, or 256 x 256's 64.
+constexpr long long kMostPathsPerDispatch = 1 << 22;
+// --8<-- [end:limits]
 
 }  // namespace
 
@@ -24,7 +26,7 @@ void declareKernelOptions(course::CommandLine& cli, KernelOptions& options) {
                "N pixels (default: every pixel, or as many as the GL allows)",
                &options.paths, 1, 1 << 30);
     cli.option("--samples-per-dispatch", "K", "megakernel: at most K samples of a pixel in "
-               "one dispatch, a new path as soon as one ends (default 32; the same image)",
+               "one dispatch, a new path as soon as one ends (default 64; the same image)",
                &options.samplesPerDispatch, 1, 1024);
 }
 
@@ -39,6 +41,7 @@ void checkPathLoops(const PathLoops& loops) {
                              2 * rounds, wayOut});
 }
 
+// --8<-- [start:per_dispatch]
 int samplesPerDispatch(const KernelOptions& options, const PathLoops& loops, size_t pixels) {
     if (!loops.wholePaths) return 1;
     long long most = std::min<long long>(options.samplesPerDispatch,
@@ -54,3 +57,4 @@ int samplesPerDispatch(const KernelOptions& options, const PathLoops& loops, siz
     }
     return int(std::max(most, 1LL));
 }
+// --8<-- [end:per_dispatch]

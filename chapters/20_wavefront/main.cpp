@@ -70,10 +70,10 @@ int main(int argc, char** argv) {
                        parameters);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordSceneStats(scene, session.stats());  // shapes, triangles, the tree ...
-        PathLoops loops{sceneFile.path, scene.spheres.size() + scene.quads.size(),
+        PathLoops loops{sceneFile.path, bruteForce ? scene.shapeCount()
+                                                   : scene.spheres.size() + scene.quads.size(),
                         bruteForce, !scene.triangles.empty() && !bruteForce, depth,
                         view == "radiance" && kernel.kernel == "megakernel"};
-        if (bruteForce) loops.shapes = scene.shapeCount();
         checkPathLoops(loops);  // exit code 4 if the GL's loop limit would cut them short
         const int perDispatch = samplesPerDispatch(kernel, loops, size_t(width) * height);
         session.stats().set("samples_per_dispatch", perDispatch);
@@ -81,8 +81,8 @@ int main(int argc, char** argv) {
         // The shader's part written for this scene (scene_code.glsl), and how it reads
         // the scene: constants for a small scene, buffer textures otherwise.
         SceneCodeChoice choice = chooseSceneCode(codeOptions, scene, sceneFile.path);
-        std::string sceneCode =
-            writeSceneCode(scene, choice, environment.distributions.size() > 0);
+        std::string sceneCode = writeSceneCode(
+            scene, choice, !environment.distributions.empty(), sceneFile.camera.lensRadius > 0);
         recordSceneCode(choice, session.stats());
         // --8<-- [end:scene_code]
 

@@ -135,7 +135,7 @@ uint32_t materialKindBits(const GpuScene& scene) {
 
 // --8<-- [start:write]
 std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
-                           bool hasEnvironment) {
+                           bool hasEnvironment, bool hasLens) {
     // What the scene uses; a generic shader assumes everything.
     uint32_t kinds = materialKindBits(scene);
     bool textured = false;
@@ -155,6 +155,7 @@ std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
          << "#define HAS_TRIANGLES " << (all || !scene.triangles.empty()) << "\n"
          << "#define HAS_TEXTURES " << (all || textured) << "\n"
          << "#define HAS_ENVIRONMENT " << (all || hasEnvironment) << "\n"
+         << "#define HAS_LENS " << (all || hasLens) << "\n"
          << "#define MATERIAL_KINDS " << (all ? 0xFu : kinds) << "u  // a bit per kind\n";
     if (choice.sceneMemory == MEMORY_UNIFORM) {  // fixed sizes, at least 1 (uploadScene)
         auto atLeastOne = [](size_t n) { return std::max<size_t>(n, 1); };

@@ -53,9 +53,9 @@ SceneCodeChoice chooseSceneCode(const SceneCodeOptions& options, const GpuScene&
 uint32_t materialKindBits(const GpuScene& scene);
 
 // The text of scene_code.glsl for this scene. `hasEnvironment`: an environment map
-// lights it.
+// lights it; `hasLens`: its camera has a lens (else a pinhole: no depth of field).
 std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
-                           bool hasEnvironment);
+                           bool hasEnvironment, bool hasLens);
 
 // "constants", "texture", ...: for --json and messages.
 std::string memoryName(int memory);

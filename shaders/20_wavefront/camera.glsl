@@ -54,7 +54,11 @@ Ray primaryRay(uvec2 pixel, uvec2 imageSize, vec2 pointInPixel, vec2 pointOnLens
     // The pinhole ray meets the focus plane `focusDistance` in front of the eye here;
     // every ray of this pixel, from anywhere on the lens, passes through that point.
     vec3 eyeToFocus = eyeToPixel * (camera.focusDistance / dot(eyeToPixel, camera.forward));
+#if HAS_LENS
     vec2 lens = camera.lensRadius * concentricDisk(pointOnLens);
+#else  // a pinhole (scene_code.glsl): the lens's code compiled out, the same ray
+    vec2 lens = vec2(0.0);
+#endif
     vec3 eyeToLens = camera.right * lens.x + camera.up * lens.y;
     return Ray(camera.eye + eyeToLens, normalize(eyeToFocus - eyeToLens));
 }

@@ -90,15 +90,26 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter, vec
                dot(normal, ray.direction) < 0.0, material, emitter, uv);
 }
 
+// What a hit needs of the sphere or quad it found, kept as the tests go: a sphere's
+// centre or a quad's front normal, its material and emitter. Nothing is then read by an
+// index known only at run time, which llvmpipe does one lane at a time.
+struct Found {
+    vec3 centreOrNormal;
+    uint material;
+    uint emitter;
+};
+Found foundSphere(Sphere s) { return Found(s.center, s.material, s.emitter); }
+Found foundQuad(Quad q) { return Found(cross(q.edge1, q.edge2), q.material, q.emitter); }
+
 // --8<-- [start:written_out]
 // A scene in constants (MEMORY_CONSTANTS) has each shape's test written out, not
 // looped: FOR_EACH_QUAD(TEST), from scene_code.glsl, is TEST(0) TEST(1) ... With its
 // index a number, each test reads its own shape's constants, and the compiler folds
 // what depends on them alone (a quad's normal, its dual vectors) into numbers.
 #define NEAREST_SPHERE(i) if (hitSphere(ray, SCENE_SPHERES[i], tMin, tMax, t)) { \
-        tMax = t; kind = SHAPE_SPHERE; index = i; }
+        tMax = t; kind = SHAPE_SPHERE; found = foundSphere(SCENE_SPHERES[i]); }
 #define NEAREST_QUAD(i) if (hitQuad(ray, SCENE_QUADS[i], tMin, tMax, t, ab)) { \
-        tMax = t; kind = SHAPE_QUAD; index = i; hitAb = ab; }
+        tMax = t; kind = SHAPE_QUAD; found = foundQuad(SCENE_QUADS[i]); hitAb = ab; }
 // A shadow ray: no return inside the tests. Each return would put every test after it
 // in an else branch, nested as deep as the scene has shapes, and llvmpipe draws wrong
 // pictures past some depth; one test after the other, each skipped once blocked, is flat.
@@ -111,21 +122,26 @@ Hit makeHit(Ray ray, float t, vec3 frontNormal, uint material, uint emitter, vec
 // --8<-- [start:nearest]
 // The nearest surface along the ray, between tMin and tMax.
 bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
-    int kind = -1, index = 0;
+    int kind = -1, index = 0;  // index: a triangle's
+    Found found;
     float t;
     vec2 barycentric, hitBarycentric, ab, hitAb;
 #if SCENE_MEMORY == MEMORY_CONSTANTS
     FOR_EACH_SPHERE(NEAREST_SPHERE)
     FOR_EACH_QUAD(NEAREST_QUAD)
 #else
-    for (int i = 0; i < SPHERE_COUNT; ++i)
-        if (hitSphere(ray, sphereAt(i), tMin, tMax, t)) {
-            tMax = t; kind = SHAPE_SPHERE; index = i;
+    for (int i = 0; i < SPHERE_COUNT; ++i) {
+        Sphere s = sphereAt(i);
+        if (hitSphere(ray, s, tMin, tMax, t)) {
+            tMax = t; kind = SHAPE_SPHERE; found = foundSphere(s);
         }
-    for (int i = 0; i < QUAD_COUNT; ++i)
-        if (hitQuad(ray, quadAt(i), tMin, tMax, t, ab)) {
-            tMax = t; kind = SHAPE_QUAD; index = i; hitAb = ab;
+    }
+    for (int i = 0; i < QUAD_COUNT; ++i) {
+        Quad q = quadAt(i);
+        if (hitQuad(ray, q, tMin, tMax, t, ab)) {
+            tMax = t; kind = SHAPE_QUAD; found = foundQuad(q); hitAb = ab;
         }
+    }
 #endif
     // The triangles: the tree finds the nearest one nearer than tMax (the nearest
     // sphere or quad so far), or brute force tries them all.
@@ -145,12 +161,10 @@ bool nearestHit(Ray ray, float tMin, float tMax, out Hit hit) {
 #endif
     // Normals only for the one shape that was hit.
     if (kind == SHAPE_SPHERE) {
-        Sphere s = sphereAt(index);
-        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - s.center, s.material,
-                      s.emitter, vec2(0.0));  // no texture on spheres
+        hit = makeHit(ray, tMax, ray.origin + tMax * ray.direction - found.centreOrNormal,
+                      found.material, found.emitter, vec2(0.0));  // no texture on spheres
     } else if (kind == SHAPE_QUAD) {
-        Quad q = quadAt(index);
-        hit = makeHit(ray, tMax, cross(q.edge1, q.edge2), q.material, q.emitter, hitAb);
+        hit = makeHit(ray, tMax, found.centreOrNormal, found.material, found.emitter, hitAb);
     } else if (kind == SHAPE_TRIANGLE) {
         hit = triangleHit(ray, tMax, hitBarycentric, triangleAt(uint(index)));
     }

@@ -18,6 +18,13 @@ paths), and changes nothing of what either computes: both call the same steps
 - The wavefront's kernels trace one ray each, so chapter 12's brute force fits Mesa
   22's loop limit where the megakernel's whole path does not; it draws the tree's
   picture.
+- Path regeneration: the megakernel adds several samples to a pixel in one dispatch,
+  starting the pixel's next path as soon as one ends, with the random numbers and the
+  sums in the order of one sample a dispatch: the same picture as
+  --samples-per-dispatch 1, on the Cornell box and on the showcase. A running mean
+  that counts its samples wrong is caught by that comparison. How many samples a
+  dispatch takes follows the loop limit: fewer for a scene of many spheres (each
+  bounce loops over them), one for a mesh's tree on a GL that has a limit (measured).
 - A view other than the radiance needs the megakernel: exit code 2, no image.
 - The pool of path slots: a pool smaller than the image (--paths) runs it in waves and
   draws the same picture; a large image takes as many slots as the GL's limits allow
@@ -32,7 +39,7 @@ import json
 
 import path_checks
 import pytest
-from conftest import ROOT, run_chapter
+from conftest import ROOT, SMALLEST_KNOWN_LOOP_LIMIT, loop_limit, run_chapter
 from path_checks import path_trace
 
 SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
@@ -87,6 +94,76 @@ def test_the_wavefronts_brute_force_draws_the_trees_picture(tmp_path):
     tree = path_trace("20", tmp_path, "tree", *scene)
     brute = path_trace("20", tmp_path, "brute", *scene, "--brute-force", *WAVEFRONT)
     path_checks.assert_same_picture(brute, tree, "brute force through the wavefront")
+
+
+def stats(tmp_path, *args) -> dict:
+    """The chapter's --json statistics for one headless render."""
+    result = run_chapter("20", "--headless", "--out", tmp_path / "stats.pfm", "--json",
+                         *map(str, args))
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+ONE_A_DISPATCH = ["--samples-per-dispatch", "1"]
+
+
+@pytest.mark.parametrize("scene, most", [("cornell_box", 64), ("sky_showcase", 56)])
+def test_regeneration_draws_the_picture_of_one_sample_a_dispatch(tmp_path, scene, most):
+    # 80 samples: a dispatch of 64 (the Cornell box's 18 quads) or 56 (the showcase's 51
+    # shapes, each bounce looping over them twice: 7 x 56 x (2 x 51 + 65) loop
+    # iterations fit 65 535), then one of the samples left.
+    options = ["--scene", scene, "--width", "48", "--height", "48", "--spp", "80"]
+    assert stats(tmp_path, *options)["samples_per_dispatch"] == most
+    regenerating = path_trace("20", tmp_path, "regenerating", *options)
+    one = path_trace("20", tmp_path, "one", *options, *ONE_A_DISPATCH)
+    path_checks.assert_same_picture(regenerating, one, f"{scene}, {most} samples a dispatch")
+    assert regenerating.mean() > 0.01  # lit, not black
+
+
+@pytest.mark.parametrize("bug", [
+    ("path.comp", "mean += (path.radiance - mean) / float(sampleIndex + done);",
+     "mean += (path.radiance - mean) / float(sampleIndex + 1u);"),
+    ("path.comp", "        path = startPath(cameraRay(pixel, random));  // the next",
+     "        path.radiance = vec3(0.0); path.bounce = 0;  // the next"),
+], ids=["mean_counts_wrong", "path_not_restarted"])
+def test_a_wrong_regeneration_is_caught(tmp_path, bug):
+    shaders = path_checks.shaders_with_bug("20", tmp_path / "shaders", bug)
+    options = ["--scene", "cornell_box", *SMALL]
+    one = path_trace("20", tmp_path, "one", *options, *ONE_A_DISPATCH)
+    wrong = path_trace("20", tmp_path, "wrong", *options, "--shader-dir", shaders)
+    with pytest.raises(AssertionError):
+        path_checks.assert_same_picture(wrong, one, "the planted mistake")
+
+
+def test_many_spheres_take_fewer_samples_a_dispatch(tmp_path):
+    # 300 spheres, each bounce's two loops over them: 64 samples of depth 6 would be
+    # 7 x 64 x (600 + ...) loop iterations, past the limit every GL is known to allow.
+    spheres = "".join(f"sphere {x * 0.3 - 2.85:.2f} {y * 0.3 - 0.4:.2f} -3 0.1 m\n"
+                      for x in range(20) for y in range(15))
+    scene = tmp_path / "many.scene"
+    scene.write_text("camera eye 0 1 3 look 0 0 -3 up 0 1 0 focal 0.035 sensor 0.036\n"
+                     "material m albedo 0.5 0.5 0.5\n"
+                     "material glow albedo 0 0 0 emission 4 4 4\n"
+                     "quad -3 3 -5 6 0 0 0 0 4 glow\n" + spheres)
+    options = ["--scene", scene, "--width", "16", "--height", "16", "--spp", "20"]
+    taken = stats(tmp_path, *options)["samples_per_dispatch"]
+    assert 1 < taken < 64
+    assert taken * 7 * 2 * 301 <= SMALLEST_KNOWN_LOOP_LIMIT
+    regenerating = path_trace("20", tmp_path, "regenerating", *options)
+    one = path_trace("20", tmp_path, "one", *options, *ONE_A_DISPATCH)
+    path_checks.assert_same_picture(regenerating, one, f"{taken} samples a dispatch")
+    assert regenerating.mean() > 0.001
+
+
+def test_a_tree_regenerates_only_without_a_loop_limit(tmp_path):
+    # A walk of the tree has no length known in advance: on a GL that ends loops (Mesa
+    # 22's llvmpipe, measured) the teapot takes one sample a dispatch, else 64.
+    options = ["--scene", "cornell_teapot", "--width", "24", "--height", "24", "--spp", "4"]
+    expected = 1 if loop_limit("20") is not None else 64
+    assert stats(tmp_path, *options)["samples_per_dispatch"] == expected
+    # The views take one sample a dispatch, as do the window's frames.
+    assert stats(tmp_path, "--scene", "cornell_box", "--view", "normals",
+                 "--spp", "4")["samples_per_dispatch"] == 1
 
 
 def test_other_views_need_the_megakernel(tmp_path):

@@ -345,7 +345,10 @@ def tiny_wavefront_bench(tmp_path_factory):
 def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
     report = tiny_wavefront_bench["report"]
     assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
-    assert {row["kernel"] for row in report["rows"].values()} == {"megakernel", "wavefront"}
+    assert {row["kernel"] for row in report["rows"].values()} == {
+        "megakernel", "regenerating", "wavefront"}
+    dispatches = {row["kernel"]: row["samples_per_dispatch"] for row in report["rows"].values()}
+    assert dispatches == {"megakernel": 1, "regenerating": 64, "wavefront": 1}
     for row in report["rows"].values():
         for figure in ("samples_per_second", "rays_per_second"):
             assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
@@ -356,7 +359,9 @@ def test_the_wavefront_bench_writes_its_page_only_when_asked(tiny_wavefront_benc
     assert tiny_wavefront_bench["unchanged"] and tiny_wavefront_bench["book_unchanged"]
     page = tiny_wavefront_bench["page"]
     assert "Each figure is the median of 2 runs" in page
-    assert "| cornell_box | 1: diffuse | wavefront |" in page
-    assert "| cornell_box | 24² | megakernel |" in page
-    assert "| wavefront ÷ megakernel, samples/s, 16² |" in page
+    assert "| cornell_box | 1: diffuse | wavefront | 1 |" in page
+    assert "| cornell_box | 24² | megakernel | 1 |" in page
+    assert "| cornell_box | 24² | regenerating | 64 |" in page
+    assert ("| samples/s ÷ megakernel's, 16² | regenerating: this machine | "
+            "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") in page
     assert "| cornell_box (1: diffuse) |" in page
