@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
                         view == "radiance" && kernel.kernel == "megakernel"};
         checkPathLoops(loops);  // exit code 4 if the GL's loop limit would cut them short
         const int perDispatch = samplesPerDispatch(kernel, loops, size_t(width) * height);
-        session.stats().set("samples_per_dispatch", perDispatch);
+        session.stats().set("samples_per_dispatch", std::min(perDispatch, options.spp));
         // --8<-- [start:scene_code]
         // The shader's part written for this scene (scene_code.glsl), and how it reads
         // the scene: constants for a small scene, buffer textures otherwise.

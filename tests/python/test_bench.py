@@ -328,7 +328,7 @@ def tiny_wavefront_bench(tmp_path_factory):
     page = folder / "20_wavefront.md"
     page.write_text(bench_wavefront.PAGE.read_text())
     book_before, page_before = bench_wavefront.PAGE.read_text(), page.read_text()
-    settings = bench_wavefront.Settings(spp=1, depth=2, repeat=2)
+    settings = bench_wavefront.Settings(spp=2, depth=2, repeat=2)  # 2 a dispatch
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(bench_wavefront, "ROWS", rows)
         patch.setattr(bench_wavefront, "SCENES", (("cornell_box", "1: diffuse"),))
@@ -348,7 +348,7 @@ def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
     assert {row["kernel"] for row in report["rows"].values()} == {
         "megakernel", "regenerating", "wavefront"}
     dispatches = {row["kernel"]: row["samples_per_dispatch"] for row in report["rows"].values()}
-    assert dispatches == {"megakernel": 1, "regenerating": 64, "wavefront": 1}
+    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1}
     for row in report["rows"].values():
         for figure in ("samples_per_second", "rays_per_second"):
             assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
@@ -361,7 +361,7 @@ def test_the_wavefront_bench_writes_its_page_only_when_asked(tiny_wavefront_benc
     assert "Each figure is the median of 2 runs" in page
     assert "| cornell_box | 1: diffuse | wavefront | 1 |" in page
     assert "| cornell_box | 24² | megakernel | 1 |" in page
-    assert "| cornell_box | 24² | regenerating | 64 |" in page
+    assert "| cornell_box | 24² | regenerating | 2 |" in page
     assert ("| samples/s ÷ megakernel's, 16² | regenerating: this machine | "
             "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") in page
     assert "| cornell_box (1: diffuse) |" in page
