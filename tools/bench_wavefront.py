@@ -63,7 +63,7 @@ ROWS = tuple(Row("scenes", scene, kernel, 256) for scene, _ in SCENES for kernel
 
 @dataclass
 class Settings:
-    spp: int = 64  # one dispatch of the regenerating megakernel, at 256²
+    spp: int = 32
     depth: int = 6
     repeat: int = 3
 

@@ -78,6 +78,14 @@ def strip_solutions(text: str, path: str) -> str:
     return "".join(out)
 
 
+def keep_solutions(text: str, path: str) -> str:
+    """A file as a finished chapter has it: the solutions kept, the markers and stubs
+    gone (as each chapter's copy of the one before it has them)."""
+    find_blocks(text, path)  # validate first
+    return "".join(line for line in text.splitlines(keepends=True)
+                   if not (BEGIN.match(line) or END.match(line) or STUB.match(line)))
+
+
 def marked_files(root: Path) -> list[Path]:
     files = []
     for top in ("chapters", "shaders", "common"):
@@ -113,7 +121,7 @@ The chapter's page, with this folder's code in its listings: open
 
 Until you fill in the TODOs, the program builds and runs but draws the wrong picture
 (or, for chapter 01, reports wrong sums). Hand in this whole folder.
-
+{references}
 `./course test` runs the book's checks of this chapter: your pictures against references
 computed another way (numpy, Mitsuba 3) and properties a right program has. Your grader
 runs other tests, with arguments you do not see, and compares your program's output with
@@ -156,6 +164,20 @@ def page_prototypes(root: Path, chapter: str) -> list[str]:
     if not page.exists():
         return []
     return sorted(set(re.findall(r'--8<-- "(python_prototypes/[\w/]+\.py)', page.read_text())))
+
+
+# A check that runs another chapter's program names it as the first argument, or the
+# second after tmp_path: render(tmp_path, "12", ...), path_trace("19", tmp_path, ...).
+CHAPTER_ARGUMENT = re.compile(r'\(\s*(?:tmp_path\s*,\s*)?"(\d\d)"')
+
+
+def reference_chapters(root: Path, chapter: str, test_files: list[Path]) -> list[str]:
+    """The earlier chapters whose programs the chapter's checks run to compare with
+    (chapter 20's pictures against chapter 19's, ...). Its starter builds them, whole:
+    they are the student's earlier hand-ins, and this chapter's own code holds them."""
+    folders = {p.name[:2]: p.name for p in (root / "chapters").iterdir() if p.is_dir()}
+    numbers = {n for path in test_files for n in CHAPTER_ARGUMENT.findall(path.read_text())}
+    return sorted(folders[n] for n in numbers if n in folders and n < chapter[:2])
 
 
 def chapter_code(root: Path, chapter: str) -> tuple[str, str]:
@@ -266,13 +288,16 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
     solution, starter = chapter_code(root, chapter)
+    imported = set()
     for test in tests:
         target = out / test.relative_to(root)
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(without_planted_mistakes(test.read_text(), solution, starter))
-        for module in imported_modules(test, [root / "python_prototypes",
-                                              root / "tests" / "python"]):
-            copy(str(module.relative_to(root)))
+        imported |= imported_modules(test, [root / "python_prototypes",
+                                            root / "tests" / "python"])
+    for module in sorted(imported):
+        copy(str(module.relative_to(root)))
+    references = reference_chapters(root, chapter, tests + sorted(imported))
     for prototype in page_prototypes(root, chapter):
         copy(prototype)  # and what it imports, so that the student can run it
         for module in imported_modules(root / prototype, [root / "python_prototypes"]):
@@ -291,9 +316,25 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
             else:
                 shutil.copy2(source, target)
 
-    # A build of this one chapter: no unit tests, no other chapters.
+    # The earlier chapters the checks compare with, finished: solutions kept.
+    for reference in references:
+        copy(f"manifests/{reference}.ini")
+        for top in ("chapters", "shaders"):
+            for source in sorted((root / top / reference).rglob("*")):
+                if not source.is_file():
+                    continue
+                target = out / source.relative_to(root)
+                target.parent.mkdir(parents=True, exist_ok=True)
+                if source.suffix in MARKED_SUFFIXES:
+                    relative = str(source.relative_to(root))
+                    target.write_text(keep_solutions(source.read_text(), relative))
+                else:
+                    shutil.copy2(source, target)
+
+    # A build of this chapter and its references: no unit tests, no other chapters.
     cmake = (root / "CMakeLists.txt").read_text()
-    cmake = re.sub(r"^add_chapter\((?!" + chapter + r"\)).*\n", "", cmake, flags=re.M)
+    built = "|".join(re.escape(name) for name in [chapter, *references])
+    cmake = re.sub(r"^add_chapter\((?!(?:" + built + r")\)).*\n", "", cmake, flags=re.M)
     cmake = re.sub(r"^enable_testing\(\)\n|^add_subdirectory\(tests/cpp\)\n", "", cmake,
                    flags=re.M)
     (out / "CMakeLists.txt").write_text(cmake)
@@ -304,8 +345,13 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         heading = page.read_text().splitlines()[0]
         title = heading.split("·", 1)[-1].strip() if "·" in heading else title
         write_page(root, chapter, out, figures, f"{number} · {title}")
+    named = ", ".join(f"`chapters/{name}/`" for name in references)
+    note = (f"\n{named} {'is' if len(references) == 1 else 'are'} finished: some of "
+            "`./course test`'s checks compare your\npictures with "
+            f"{'its' if len(references) == 1 else 'theirs'}. Nothing there is yours "
+            "to write.\n") if references else ""
     (out / "README.md").write_text(STUDENT_README.format(number=number, name=chapter,
-                                                         title=title))
+                                                         title=title, references=note))
     workflow = out / ".github" / "workflows" / "classroom.yml"
     workflow.parent.mkdir(parents=True)
     workflow.write_text(classroom_workflow(number))

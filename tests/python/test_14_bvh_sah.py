@@ -18,9 +18,20 @@ import pytest
 
 from conftest import ROOT, loop_limit, run_chapter
 from test_13_bvh import SCENES, TEAPOT_552, TEAPOT_6320, render, room_with
+# Chapter 13's checks against numpy, chapter 12 and the blended normals, run on chapter
+# 14 (the `chapter` fixture below).
+from test_13_bvh import (test_a_million_triangles_against_a_numpy_ray_caster,  # noqa: F401
+                         test_camera_rays_find_what_numpy_finds,
+                         test_same_picture_as_chapter_12,
+                         test_the_teapot_is_shaded_with_its_blended_normals)
 
 sys.path.insert(0, str(ROOT / "tools"))
 import grading_statistics  # noqa: E402  (decode_cost: the heat map back to steps)
+
+
+@pytest.fixture
+def chapter() -> str:
+    return "14"
 
 
 # --- The tree finds what brute force finds ---------------------------------------------

@@ -1,6 +1,7 @@
 """Classroom: solution markers are well formed everywhere, and a starter release builds,
 runs, and draws a wrong picture instead of crashing."""
 
+import re
 import shutil
 import subprocess
 import sys
@@ -159,6 +160,38 @@ def test_autograder_zip_has_gradescope_entry_points(tmp_path):
         assert "./course grade 02 --submission /autograder/submission" in run
         assert "--out /autograder/results" in run
         assert not any(n.startswith("course/build/") or "/.venv/" in n for n in names)
+
+
+def test_a_starter_builds_the_earlier_chapters_its_checks_compare_with(tmp_path):
+    # Chapter 20's checks draw chapter 19's pictures to compare with, and chapter 14's
+    # run chapter 12's and count chapter 13's steps: their starters hold those chapters,
+    # finished (no markers, nothing to write), and build them; chapter 02's holds none.
+    for chapter, references in [("20_wavefront", ["19_speed"]),
+                                ("14_bvh_sah", ["12_light_sampling", "13_bvh"]),
+                                ("02_first_pixels", [])]:
+        starter = classroom.release(ROOT, chapter, tmp_path / chapter)
+        built = re.findall(r"^add_chapter\((\w+)\)", (starter / "CMakeLists.txt").read_text(),
+                           flags=re.M)
+        assert sorted(built) == sorted([chapter, *references])
+        assert sorted(p.name for p in (starter / "chapters").iterdir()) == built
+        readme = (starter / "README.md").read_text()
+        for reference in references:
+            assert (starter / "manifests" / f"{reference}.ini").exists()
+            assert f"`chapters/{reference}/`" in readme
+            for top in ("chapters", "shaders"):
+                for path in (starter / top / reference).rglob("*"):
+                    if path.suffix in classroom.MARKED_SUFFIXES:
+                        text = path.read_text()
+                        assert "SOLUTION" not in text and "TODO" not in text, path
+        # The reference is the solution: its files equal the course's, markers aside.
+        for reference in references:
+            original = ROOT / "shaders" / reference
+            for path in original.rglob("*"):
+                copied = starter / "shaders" / reference / path.relative_to(original)
+                assert copied.read_text() == classroom.keep_solutions(path.read_text(),
+                                                                      str(path))
+        if not references:
+            assert "is finished" not in readme and "are finished" not in readme
 
 
 def test_starter_has_a_classroom_workflow(tmp_path):
