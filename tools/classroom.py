@@ -281,9 +281,14 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         copy(relative)
     if (root / "assets").exists():
         copy("assets")  # the scene files, and the small source data the build uses
-    for generator in ("python_prototypes/teapot.py", "python_prototypes/gems.py"):
+    # cmake/Assets.cmake runs these at build time (teapots, gems, textures, skies), with
+    # what they import.
+    assets_cmake = (root / "cmake" / "Assets.cmake").read_text()
+    for generator in sorted(set(re.findall(r"python_prototypes/\w+\.py", assets_cmake))):
         if (root / generator).exists():
-            copy(generator)  # cmake/Assets.cmake runs them at build time
+            copy(generator)
+            for module in imported_modules(root / generator, [root / "python_prototypes"]):
+                copy(str(module.relative_to(root)))
     if not number.isdigit() or int(number) >= 7:
         copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
@@ -294,7 +299,7 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(without_planted_mistakes(test.read_text(), solution, starter))
         imported |= imported_modules(test, [root / "python_prototypes",
-                                            root / "tests" / "python"])
+                                            root / "tests" / "python", root / "tools"])
     for module in sorted(imported):
         copy(str(module.relative_to(root)))
     references = reference_chapters(root, chapter, tests + sorted(imported))

@@ -210,3 +210,25 @@ def test_a_starter_runs_the_prototype_its_page_shows(tmp_path):
                              "--which", "light"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "mc.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_starter_runs_its_own_checks(tmp_path):
+    """What a student does first: `./course test 20` in a fresh starter. It builds (the
+    asset generators came along), builds chapter 19 to compare with, and runs chapter
+    20's checks: the megakernel's pass, since the student's exercise is the wavefront's
+    queue, and the wavefront's fail until it is written. None fails for want of a
+    program."""
+    starter = classroom.release(ROOT, "20_wavefront", tmp_path / "s")
+    (starter / ".venv").symlink_to(sys.prefix)  # this interpreter's packages: no pip
+    result = subprocess.run([str(starter / "course"), "test", "20"], cwd=starter,
+                            capture_output=True, text=True, timeout=1800)
+    report = result.stdout + result.stderr
+    assert result.returncode == 1, report[-3000:]
+    assert "is not built" not in report and "ninja: error" not in report
+    failed = set(re.findall(r"^FAILED \S+::(\w+)", result.stdout, flags=re.M))
+    assert "test_a_pool_smaller_than_the_image_runs_it_in_waves" in failed
+    assert "test_the_wavefront_agrees_with_mitsuba" in failed
+    passed = {"test_regeneration_draws_the_picture_of_one_sample_a_dispatch",
+              "test_other_views_need_the_megakernel"}
+    assert not passed & failed, failed
+    assert re.search(r"^\d+ passed, \d+ failed", result.stdout, flags=re.M), report[-3000:]
