@@ -308,33 +308,24 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         for module in imported_modules(root / prototype, [root / "python_prototypes"]):
             copy(str(module.relative_to(root)))
 
-    # The chapter itself, with the solutions taken out.
-    for top in ("chapters", "shaders"):
-        for source in sorted((root / top / chapter).rglob("*")):
-            if not source.is_file():
-                continue
-            target = out / source.relative_to(root)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            if source.suffix in MARKED_SUFFIXES:
-                relative = str(source.relative_to(root))
-                target.write_text(strip_solutions(source.read_text(), relative))
-            else:
-                shutil.copy2(source, target)
-
-    # The earlier chapters the checks compare with, finished: solutions kept.
-    for reference in references:
-        copy(f"manifests/{reference}.ini")
+    def copy_checkpoint(name: str, edit):
+        """A chapter's folders, each marked file passed through `edit`."""
         for top in ("chapters", "shaders"):
-            for source in sorted((root / top / reference).rglob("*")):
+            for source in sorted((root / top / name).rglob("*")):
                 if not source.is_file():
                     continue
                 target = out / source.relative_to(root)
                 target.parent.mkdir(parents=True, exist_ok=True)
                 if source.suffix in MARKED_SUFFIXES:
                     relative = str(source.relative_to(root))
-                    target.write_text(keep_solutions(source.read_text(), relative))
+                    target.write_text(edit(source.read_text(), relative))
                 else:
                     shutil.copy2(source, target)
+
+    copy_checkpoint(chapter, strip_solutions)  # the chapter itself, solutions taken out
+    for reference in references:  # the earlier ones the checks compare with, finished
+        copy(f"manifests/{reference}.ini")
+        copy_checkpoint(reference, keep_solutions)
 
     # A build of this chapter and its references: no unit tests, no other chapters.
     cmake = (root / "CMakeLists.txt").read_text()

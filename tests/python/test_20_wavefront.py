@@ -183,10 +183,7 @@ def test_the_wavefront_agrees_with_mitsuba(tmp_path):
 
 
 def wavefront_stats(tmp_path, *args) -> dict:
-    result = run_chapter("20", "--headless", "--out", tmp_path / "stats.pfm", "--json",
-                         *WAVEFRONT, *map(str, args))
-    assert result.returncode == 0, result.stderr
-    return json.loads(result.stdout.strip().splitlines()[-1])
+    return stats(tmp_path, *WAVEFRONT, *args)
 
 
 def test_a_pool_smaller_than_the_image_runs_it_in_waves(tmp_path):
