@@ -283,12 +283,15 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         copy("assets")  # the scene files, and the small source data the build uses
     # cmake/Assets.cmake runs these at build time (teapots, gems, textures, skies), with
     # what they import.
+    def copy_script(relative: str):  # a python_prototypes script, with what it imports
+        copy(relative)
+        for module in imported_modules(root / relative, [root / "python_prototypes"]):
+            copy(str(module.relative_to(root)))
+
     assets_cmake = (root / "cmake" / "Assets.cmake").read_text()
     for generator in sorted(set(re.findall(r"python_prototypes/\w+\.py", assets_cmake))):
         if (root / generator).exists():
-            copy(generator)
-            for module in imported_modules(root / generator, [root / "python_prototypes"]):
-                copy(str(module.relative_to(root)))
+            copy_script(generator)
     if not number.isdigit() or int(number) >= 7:
         copy("tests/data/obj")  # the OBJ files the mesh chapters' checks load
     tests = sorted((root / "tests" / "python").glob(f"test_{number}_*.py"))
@@ -304,9 +307,7 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         copy(str(module.relative_to(root)))
     references = reference_chapters(root, chapter, tests + sorted(imported))
     for prototype in page_prototypes(root, chapter):
-        copy(prototype)  # and what it imports, so that the student can run it
-        for module in imported_modules(root / prototype, [root / "python_prototypes"]):
-            copy(str(module.relative_to(root)))
+        copy_script(prototype)  # so that the student can run it
 
     def copy_checkpoint(name: str, edit):
         """A chapter's folders, each marked file passed through `edit`."""
