@@ -9,8 +9,9 @@ runs that take turns, on one machine, in one run of the bench.
   buffer textures, constants written out into the shader; and the generic shader,
   every feature compiled in (--generic), against the same storage buffers specialised.
 - **The tree** (the teapot, and the million-triangle teapot in the same room): its
-  nodes and triangles from storage buffers or buffer textures; the million's rays per
-  second against the 6 320's.
+  nodes and triangles from storage buffers or buffer textures, and its leaves priced as
+  the four tests they run or by count (chapter 14's tree); the million's rays per second
+  against the 6 320's.
 - **Compile time**: the path tracer's shader compiled with Mesa's shader cache off
   (MESA_SHADER_CACHE_DISABLE), the whole run of a 16 x 16 image at 1 sample, for the
   Cornell box and the sky showcase each way.
@@ -72,6 +73,10 @@ ROWS = (
         ("--bvh-memory", "storage")),
     Row("tree", "cornell_teapot_million", "tree in buffer textures", "19",
         ("--bvh-memory", "texture")),
+    Row("tree", "cornell_teapot", "leaves priced by count (chapter 14's tree)", "19",
+        ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
+    Row("tree", "cornell_teapot_million", "leaves priced by count (chapter 14's tree)",
+        "19", ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
 )
 COMPILED = [row for row in ROWS if row.table == "memory"] + \
     [Row("compile", "cornell_box", "chapter 18", "18"),
@@ -183,8 +188,21 @@ def million_words(report: dict) -> list[str]:
     if not big or not small:
         return []
     ratio = big["rays_per_second"]["median"] / small["rays_per_second"]["median"]
-    return [f"Through buffer textures, the million-triangle teapot traces {ratio:.2f} "
-            "times the rays per second of the 6 320-triangle one.", ""]
+    words = (f"Through buffer textures, the million-triangle teapot traces {ratio:.2f} "
+             "times the rays per second of the 6 320-triangle one.")
+    label = "leaves priced by count (chapter 14's tree)"
+    by_count = {scene: rows.get(f"tree: {scene}: {label}")
+                for scene in ("cornell_teapot", "cornell_teapot_million")}
+    if all(by_count.values()):
+        gain = [row["rays_per_second"]["median"] / by_count[scene]["rays_per_second"]["median"]
+                for scene, row in (("cornell_teapot", small), ("cornell_teapot_million", big))]
+        before = (by_count["cornell_teapot_million"]["rays_per_second"]["median"] /
+                  by_count["cornell_teapot"]["rays_per_second"]["median"])
+        words += (f" Leaves priced as the four tests they run made the teapot {gain[0]:.2f} "
+                  f"times and the million {gain[1]:.2f} times as fast as leaves priced by "
+                  f"count; priced by count, the million traced {before:.2f} times the "
+                  "6 320's rays per second.")
+    return [words, ""]
 
 
 RATIOS = (  # (what, scene, numerator's label, denominator's label), from the tables

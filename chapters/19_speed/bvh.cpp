@@ -108,6 +108,7 @@ struct Split {
     Bins bins;
     int lastLeftBin = 0;
     double cost = 0.0;  // nodeCost * area + triangleCost * (leftArea * nLeft + ...)
+    double childAreas = 0.0;  // leftArea + rightArea
 };
 
 class Builder {
@@ -130,6 +131,8 @@ private:
                        const Box& centroids);
     uint32_t partition(uint32_t begin, uint32_t end, const Split& split);
     Child leaf(uint32_t begin, uint32_t end, const Box& box, int depth);
+    double leafTests(uint32_t count) const;
+    bool cheaperToSplit(const Split& split, uint32_t count, const Box& box) const;
 
     const BvhOptions& options_;
     std::vector<TriangleRecord>& records_;
@@ -149,14 +152,12 @@ Child Builder::build(uint32_t begin, uint32_t end, int depth) {
         centroids.grow(records_[i].centroid());
     }
 
-    // 1. A leaf, if the range is small enough and the SAH says testing all its
-    //    triangles is cheaper than a node and two children (or the depth is used up).
+    // 1. A leaf, if the range is small enough and the SAH says testing its triangles
+    //    is cheaper than a node and two children (or the depth is used up).
     if (count == 1) return leaf(begin, end, box, depth);
     Split split = findSahSplit(begin, end, box, centroids);
-    const double leafCost = options_.triangleCost * count * box.halfArea();
-    const bool splitIsCheaper = split.found && split.cost < leafCost;
     if (count <= uint32_t(options_.maxLeafSize) &&
-        (!splitIsCheaper || depth >= options_.maxDepth))
+        (!cheaperToSplit(split, count, box) || depth >= options_.maxDepth))
         return leaf(begin, end, box, depth);
 
     // 2. Otherwise split where the SAH says. When all centroids are one point no plane
@@ -189,9 +190,28 @@ Child Builder::leaf(uint32_t begin, uint32_t end, const Box& box, int depth) {
     ++stats.leafCount;
     stats.maxDepth = std::max(stats.maxDepth, depth);
     stats.maxLeafSize = std::max(stats.maxLeafSize, int(count));
-    sahSum += options_.triangleCost * count * box.halfArea();
+    sahSum += options_.triangleCost * leafTests(count) * box.halfArea();
     return {box, begin, count};  // the records' order is the leaf order
 }
+
+// --8<-- [start:leaf_price]
+// The triangle tests a ray pays on entering a leaf of `count` triangles: those it holds
+// (chapter 14), or all that the traversal writes out (BvhOptions::leavesByCount).
+double Builder::leafTests(uint32_t count) const {
+    return options_.leavesByCount ? double(count) : double(BVH_MAX_LEAF_SIZE);
+}
+
+// Is splitting a range that could be one leaf cheaper than that leaf? Its children would
+// be leaves too; the SAH's split cost prices them by count, which is right only if
+// leaves are priced so.
+bool Builder::cheaperToSplit(const Split& split, uint32_t count, const Box& box) const {
+    if (!split.found) return false;
+    const double leafCost = options_.triangleCost * leafTests(count) * box.halfArea();
+    if (options_.leavesByCount) return split.cost < leafCost;
+    const double childLeaves = options_.triangleCost * leafTests(1) * split.childAreas;
+    return options_.nodeCost * box.halfArea() + childLeaves < leafCost;
+}
+// --8<-- [end:leaf_price]
 
 // --8<-- [start:sah]
 Split Builder::findSahSplit(uint32_t begin, uint32_t end, const Box& box,
@@ -253,7 +273,8 @@ Split Builder::findSahSplit(uint32_t begin, uint32_t end, const Box& box,
                           options_.triangleCost * (left.halfArea() * leftCount +
                                                    rightAreas_[bin] * rightCount);
             // Strictly cheaper only: on a tie the first candidate stays (deterministic).
-            if (!best.found || cost < best.cost) best = {true, axis, bins[axis], bin, cost};
+            if (!best.found || cost < best.cost)
+                best = {true, axis, bins[axis], bin, cost, left.halfArea() + rightAreas_[bin]};
         }
     }
     return best;
@@ -303,8 +324,9 @@ Bvh buildBvh(const std::vector<vec3>& positions, const std::vector<uint32_t>& tr
         badInput(std::to_string(triangleIndices.size()) +
                  " triangle indices: not 3 per triangle");
     const size_t triangleCount = triangleIndices.size() / 3;
-    if (triangleCount >= std::numeric_limits<uint32_t>::max())
-        badInput(std::to_string(triangleCount) + " triangles: more than 32-bit indices hold");
+    if (triangleCount >= (size_t(1) << (32 - BVH_COUNT_BITS)))
+        badInput(std::to_string(triangleCount) + " triangles: more than the traversal's "
+                 "stack entries hold (2^29, BVH_COUNT_BITS in bvh_layout.h)");
     if (halvingDepth(triangleCount, options.maxLeafSize) > options.maxDepth)
         badInput(std::to_string(triangleCount) + " triangles do not fit in a tree of depth " +
                  std::to_string(options.maxDepth) + " with leaves of " +

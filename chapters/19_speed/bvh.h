@@ -30,6 +30,12 @@ struct BvhOptions {
     // triangle. Only their ratio matters for the shape of the tree.
     float nodeCost = 1.0f;
     float triangleCost = 1.0f;
+    // How a leaf is priced. Chapter 14 priced it by the triangles it holds (true). The
+    // traversal tests a leaf's triangles written out, BVH_MAX_LEAF_SIZE of them, and a
+    // SIMD group runs the third and fourth tests if any of its lanes' leaves has that
+    // many: a lane's leaf of one costs about what a leaf of four does. Priced so
+    // (false), small ranges stay whole leaves and the tree has fewer nodes to fetch.
+    bool leavesByCount = false;
     // No leaf deeper than this many node fetches (the traversal's stack size).
     int maxDepth = BVH_MAX_DEPTH;
 };

@@ -30,6 +30,7 @@ struct SceneCodeOptions {
                                        // constants
     std::string bvhMemory = "texture";  // --bvh-memory: storage or texture
     bool generic = false;  // --generic: one shader for every scene, as chapter 18's
+    BvhOptions tree;       // --bvh-leaves-by-count: tree.leavesByCount
 };
 void declareSceneCodeOptions(course::CommandLine& cli, SceneCodeOptions& options);
 

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
                                   {COURSE_GENERATED_ASSET_DIR},
                                   course::AcceptedMaterials::All,
                                   course::SceneExtras::LensTexturesAndEnvironment);
-        GpuScene scene = packScene(sceneFile);
+        GpuScene scene = packScene(sceneFile, codeOptions.tree);
         EnvironmentMap environment = loadEnvironment(sceneFile);
         gpu::PathParameters parameters{};
         addEnvironment(environment, sceneFile, !scene.emitters.empty(), scene.texels,

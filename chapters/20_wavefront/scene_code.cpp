@@ -97,6 +97,9 @@ void declareSceneCodeOptions(course::CommandLine& cli, SceneCodeOptions& options
     cli.flag("--generic", "one shader for every scene, as chapter 18's: every feature "
              "compiled in, the scene read from storage buffers (for comparisons)",
              &options.generic);
+    cli.flag("--bvh-leaves-by-count", "price the tree's leaves by the triangles they hold, "
+             "as chapter 14 did, not as the four tests the traversal runs: more, smaller "
+             "leaves (for comparisons)", &options.tree.leavesByCount);
 }
 
 std::string memoryName(int memory) { return kMemoryNames[memory]; }

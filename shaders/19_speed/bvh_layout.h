@@ -17,6 +17,11 @@
 // as many entries; it never holds more than one node per level above the current one.
 #define BVH_MAX_DEPTH 64
 #define BVH_STACK_SIZE BVH_MAX_DEPTH
+
+// The traversal's stack holds a child as one uint: its index above the low
+// BVH_COUNT_BITS bits, its triangle count in them. So a leaf holds fewer than 2^3
+// triangles, and a mesh fewer than 2^29 (buildBvh() refuses more).
+#define BVH_COUNT_BITS 3u
 // --8<-- [end:limits]
 
 #ifdef __cplusplus
@@ -59,6 +64,7 @@ struct BvhNode {
 // The offsets GLSL's std430 rules give; a C++ struct that differs would scramble the
 // tree silently, so the compiler checks.
 static_assert(sizeof(BvhNode) == 64, "std430 BvhNode: four 16-byte rows");
+static_assert(BVH_MAX_LEAF_SIZE < (1u << BVH_COUNT_BITS), "a leaf's count fits its bits");
 static_assert(offsetof(BvhNode, leftIndex) == 12 && offsetof(BvhNode, leftMax) == 16 &&
                   offsetof(BvhNode, leftCount) == 28 && offsetof(BvhNode, rightMin) == 32 &&
                   offsetof(BvhNode, rightIndex) == 44 && offsetof(BvhNode, rightMax) == 48 &&

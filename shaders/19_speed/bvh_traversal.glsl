@@ -73,6 +73,16 @@ float bvhEnterBox(BvhRay ray, vec3 boxMin, vec3 boxMax, float tMin, float tMax) 
 }
 // --8<-- [end:slab]
 
+// --8<-- [start:pack]
+// A child (index, count) as one uint and back, for the stack: llvmpipe reads and writes
+// an array element that each lane picks for itself one lane at a time, so every number
+// fewer on the stack saves time (bench speed: 5% on the teapot).
+uint bvhPackChild(uvec2 child) { return (child.x << BVH_COUNT_BITS) | child.y; }
+uvec2 bvhUnpackChild(uint entry) {
+    return uvec2(entry >> BVH_COUNT_BITS, entry & ((1u << BVH_COUNT_BITS) - 1u));
+}
+// --8<-- [end:pack]
+
 // --8<-- [start:triangle]
 // One triangle of a leaf: a nearer hit than the nearest so far replaces it.
 void bvhTestTriangle(Ray ray, uint index, float tMin, inout bool found, inout uint triangle,
@@ -103,7 +113,7 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
     // of triangles for a leaf.
     uvec2 current = uvec2(0u, 0u);  // the root, node 0
     bool haveCurrent = true;
-    uvec2 stack[BVH_STACK_SIZE];
+    uint stack[BVH_STACK_SIZE];  // bvhPackChild
     float stackEnter[BVH_STACK_SIZE];
     int stackSize = 0;
 
@@ -129,7 +139,7 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
             haveCurrent = enterNear < t;
             if (haveCurrent) current = nearChild;
             if (enterFar < t && stackSize < BVH_STACK_SIZE) {
-                stack[stackSize] = farChild;
+                stack[stackSize] = bvhPackChild(farChild);
                 stackEnter[stackSize] = enterFar;
                 ++stackSize;
             }
@@ -152,7 +162,7 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
         while (stackSize > 0 && !haveCurrent) {
             --stackSize;
             haveCurrent = stackEnter[stackSize] < t;
-            current = stack[stackSize];
+            current = bvhUnpackChild(stack[stackSize]);
         }
         if (!haveCurrent) break;
     }

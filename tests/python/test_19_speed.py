@@ -22,6 +22,8 @@ against Mitsuba 3 directly.
 - A scene at the limit (32 shapes, each test written out) and a large one (300 spheres
   through buffer textures) draw the generic shader's picture: the written-out tests
   nest no deeper with more shapes (shadow rays do not return from inside them).
+- The tree's leaves priced as the four tests they run: fewer nodes than chapter 18's
+  tree (which pricing by count gives again), and the same picture.
 - The GPU timer reports the render's time, no more than the wall clock around it.
 - The fast path (the Cornell box in constants) against Mitsuba 3, region by region.
 
@@ -112,6 +114,25 @@ def spheres_scene(path, count: int):
                      f"{0.6 / side:.4f} {material}")
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+def test_leaves_priced_as_written_out_make_fewer_nodes_and_the_same_picture(tmp_path):
+    # A leaf costs its four written-out tests whatever it holds (bvh.h): priced so, a
+    # range of up to four triangles stays one leaf. Priced by count it is chapter 18's
+    # tree, node for node.
+    teapot = ["--scene", "cornell_teapot"]
+    written_out, by_count = stats(tmp_path, *teapot), stats(
+        tmp_path, *teapot, "--bvh-leaves-by-count")
+    chapter_18 = json.loads(run_chapter(
+        "18", "--headless", "--out", tmp_path / "18.pfm", "--json", "--width", "16",
+        "--height", "16", "--spp", "1", *teapot).stdout.strip().splitlines()[-1])
+    assert by_count["bvh_nodes"] == chapter_18["bvh_nodes"]
+    assert written_out["bvh_nodes"] < 0.7 * by_count["bvh_nodes"]
+    assert 6320 / written_out["bvh_leaves"] > 3.0  # triangles a leaf, at most 4
+    full = path_trace("19", tmp_path, "written_out", *teapot, *SMALL)
+    smaller = path_trace("19", tmp_path, "by_count", *teapot, *SMALL,
+                         "--bvh-leaves-by-count")
+    path_checks.assert_same_picture(full, smaller, "the teapot, leaves priced two ways")
 
 
 @pytest.mark.parametrize("spheres, way", [(26, "constants"), (300, "texture")])
