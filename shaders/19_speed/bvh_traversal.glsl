@@ -76,7 +76,7 @@ float bvhEnterBox(BvhRay ray, vec3 boxMin, vec3 boxMax, float tMin, float tMax) 
 // --8<-- [start:pack]
 // A child (index, count) as one uint and back, for the stack: llvmpipe reads and writes
 // an array element that each lane picks for itself one lane at a time, so every number
-// fewer on the stack saves time (bench speed: 5% on the teapot).
+// fewer on the stack saves time (5% on the teapot, measured by hand on llvmpipe).
 uint bvhPackChild(uvec2 child) { return (child.x << BVH_COUNT_BITS) | child.y; }
 uvec2 bvhUnpackChild(uint entry) {
     return uvec2(entry >> BVH_COUNT_BITS, entry & ((1u << BVH_COUNT_BITS) - 1u));
