@@ -49,6 +49,8 @@ class Row:
     options: tuple = ()
 
 
+# The tree rows whose leaves are priced as chapter 14 priced them (--bvh-leaves-by-count).
+LEAVES_BY_COUNT = "leaves priced by count (chapter 14's tree)"
 ROWS = (
     Row("scenes", "cornell_box", "chapter 18", "18"),
     Row("scenes", "cornell_box", "chapter 19 (automatic)", "19"),
@@ -73,10 +75,10 @@ ROWS = (
         ("--bvh-memory", "storage")),
     Row("tree", "cornell_teapot_million", "tree in buffer textures", "19",
         ("--bvh-memory", "texture")),
-    Row("tree", "cornell_teapot", "leaves priced by count (chapter 14's tree)", "19",
+    Row("tree", "cornell_teapot", LEAVES_BY_COUNT, "19",
         ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
-    Row("tree", "cornell_teapot_million", "leaves priced by count (chapter 14's tree)",
-        "19", ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
+    Row("tree", "cornell_teapot_million", LEAVES_BY_COUNT, "19",
+        ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
 )
 COMPILED = [row for row in ROWS if row.table == "memory"] + \
     [Row("compile", "cornell_box", "chapter 18", "18"),
@@ -190,8 +192,7 @@ def million_words(report: dict) -> list[str]:
     ratio = big["rays_per_second"]["median"] / small["rays_per_second"]["median"]
     words = (f"Through buffer textures, the million-triangle teapot traces {ratio:.2f} "
              "times the rays per second of the 6 320-triangle one.")
-    label = "leaves priced by count (chapter 14's tree)"
-    by_count = {scene: rows.get(f"tree: {scene}: {label}")
+    by_count = {scene: rows.get(f"tree: {scene}: {LEAVES_BY_COUNT}")
                 for scene in ("cornell_teapot", "cornell_teapot_million")}
     if all(by_count.values()):
         gain = [row["rays_per_second"]["median"] / by_count[scene]["rays_per_second"]["median"]

@@ -206,10 +206,11 @@ double Builder::leafTests(uint32_t count) const {
 // leaves are priced so.
 bool Builder::cheaperToSplit(const Split& split, uint32_t count, const Box& box) const {
     if (!split.found) return false;
-    const double leafCost = options_.triangleCost * leafTests(count) * box.halfArea();
-    if (options_.leavesByCount) return split.cost < leafCost;
-    const double childLeaves = options_.triangleCost * leafTests(1) * split.childAreas;
-    return options_.nodeCost * box.halfArea() + childLeaves < leafCost;
+    const double leafPrice = options_.triangleCost * leafTests(count);  // per unit of area
+    if (options_.leavesByCount) return split.cost < leafPrice * box.halfArea();
+    // Priced as written out, each child leaf costs per area what this one would.
+    return options_.nodeCost * box.halfArea() + leafPrice * split.childAreas <
+           leafPrice * box.halfArea();
 }
 // --8<-- [end:leaf_price]
 

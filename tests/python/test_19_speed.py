@@ -74,8 +74,8 @@ def test_a_wrong_way_of_reading_the_spheres_is_caught(tmp_path):
         path_checks.assert_same_picture(wrong, reference, "the planted mistake")
 
 
-def stats(tmp_path, *args) -> dict:
-    result = run_chapter("19", "--headless", "--out", tmp_path / "out.pfm", "--json",
+def stats(tmp_path, *args, chapter="19") -> dict:
+    result = run_chapter(chapter, "--headless", "--out", tmp_path / "out.pfm", "--json",
                          "--width", "16", "--height", "16", "--spp", "1", *args)
     assert result.returncode == 0, result.stderr
     return json.loads(result.stdout.strip().splitlines()[-1])
@@ -123,9 +123,7 @@ def test_leaves_priced_as_written_out_make_fewer_nodes_and_the_same_picture(tmp_
     teapot = ["--scene", "cornell_teapot"]
     written_out, by_count = stats(tmp_path, *teapot), stats(
         tmp_path, *teapot, "--bvh-leaves-by-count")
-    chapter_18 = json.loads(run_chapter(
-        "18", "--headless", "--out", tmp_path / "18.pfm", "--json", "--width", "16",
-        "--height", "16", "--spp", "1", *teapot).stdout.strip().splitlines()[-1])
+    chapter_18 = stats(tmp_path, *teapot, chapter="18")
     assert by_count["bvh_nodes"] == chapter_18["bvh_nodes"]
     assert written_out["bvh_nodes"] < 0.7 * by_count["bvh_nodes"]
     assert 6320 / written_out["bvh_leaves"] > 3.0  # triangles a leaf, at most 4
