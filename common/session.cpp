@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "course/display.h"
+#include "course/gpu_watchdog.h"
 #include "course/image_file.h"
 #include "course/log.h"
 #include "course/loop_budget.h"
@@ -60,100 +61,10 @@ ShaderProgram& Session::loadProgram(const std::vector<ShaderStage>& stages) {
     return programs_.back();
 }
 
-namespace {
-
-// How long the GPU may work without finishing: COURSE_GPU_TIMEOUT_SECONDS, default 600.
-double gpuTimeoutSeconds() {
-    const char* setting = std::getenv("COURSE_GPU_TIMEOUT_SECONDS");
-    return setting ? std::atof(setting) : 600.0;
-}
-
-[[noreturn]] void failGpuDidNotFinish(double limit) {
-    std::fprintf(stderr,
-                 "error: the GPU did not finish within %.0f s: a shader probably loops "
-                 "forever (check its loop conditions)\n",
-                 limit);
-    // Not a normal return: tearing down a context whose GPU work is still running can
-    // block forever too. Nothing has been written yet.
-    std::_Exit(static_cast<int>(ExitCode::GlProblem));
-}
-
-// Ends the program when the GPU has not finished within the time limit, counted from
-// the start of a render and again from each waitForGpu(). The fence in waitForGpu()
-// cannot do that alone: some GLs run a compute shader inside glDispatchCompute (Mesa's
-// llvmpipe does), and from a shader that never leaves its loop that call never returns.
-// Mesa 22's llvmpipe cuts such a loop short itself; Mesa 25's does not, and neither
-// does a GPU's driver within our time limit.
-class GpuWatchdog {
-public:
-    GpuWatchdog() : limit_(gpuTimeoutSeconds()) {
-        restart();
-        active_ = this;
-        thread_ = std::thread([this] { watch(); });
-    }
-    ~GpuWatchdog() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            done_ = true;
-        }
-        changed_.notify_all();
-        thread_.join();
-        active_ = nullptr;
-    }
-    GpuWatchdog(const GpuWatchdog&) = delete;
-    GpuWatchdog& operator=(const GpuWatchdog&) = delete;
-
-    static void gpuFinished() {
-        if (active_) active_->restart();
-    }
-
-private:
-    void restart() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        deadline_ = std::chrono::steady_clock::now() +
-                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                        std::chrono::duration<double>(limit_));
-    }
-    void watch() {
-        std::unique_lock<std::mutex> lock(mutex_);
-        while (!done_) {
-            if (std::chrono::steady_clock::now() >= deadline_) failGpuDidNotFinish(limit_);
-            changed_.wait_until(lock, deadline_);
-        }
-    }
-
-    static inline GpuWatchdog* active_ = nullptr;  // the render's, on the main thread
-    const double limit_;
-    std::mutex mutex_;
-    std::condition_variable changed_;
-    std::chrono::steady_clock::time_point deadline_;
-    bool done_ = false;
-    std::thread thread_;
-};
-
-}  // namespace
-
-// Waits until the GPU has finished everything queued so far, but not forever: on a GPU a
-// shader that never leaves its loop would hang the program. COURSE_GPU_TIMEOUT_SECONDS
-// overrides the limit.
-void waitForGpu() {
-    const double limit = gpuTimeoutSeconds();
-    GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    auto start = std::chrono::steady_clock::now();
-    for (;;) {
-        GLenum state = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 100'000'000);
-        if (state == GL_ALREADY_SIGNALED || state == GL_CONDITION_SATISFIED) break;
-        std::chrono::duration<double> waited = std::chrono::steady_clock::now() - start;
-        if (state == GL_WAIT_FAILED || waited.count() > limit) failGpuDidNotFinish(limit);
-    }
-    glDeleteSync(fence);
-    GpuWatchdog::gpuFinished();
-}
-
 void Session::timeRender(const std::function<void()>& render) {
     GpuTimer timer;
     auto start = std::chrono::steady_clock::now();
-    GpuWatchdog watchdog;  // a render that never ends ends the program (exit code 4)
+    GpuWatchdog watchdog;  // a step that never ends ends the program (exit code 4)
     timer.begin();
     render();
     timer.end();

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "course/error.h"
+#include "course/gpu_watchdog.h"
 #include "course/shader_source.h"
 
 namespace course {
@@ -302,6 +303,7 @@ void ShaderProgram::dispatchCovering(int invocationsX, int invocationsY,
     use();
     glDispatchCompute(groupsFor(invocationsX, group.x), groupsFor(invocationsY, group.y),
                       groupsFor(invocationsZ, group.z));
+    gpuStepQueued();  // the watchdog's sign of progress
 }
 
 }  // namespace course

@@ -213,20 +213,27 @@ def sanitizer_environment() -> dict:
 def cmd_test(args):
     if args.sanitize:
         return test_sanitized(args)
-    build(options=WITH_UNIT_TESTS)
-    started = time.time()
+    import suite_parts
+    whole = not args.chapter and not args.k
+    parts = suite_parts.SuiteParts(
+        BUILD / "test-artifacts",
+        ["build", "C++ unit tests (ctest)", "image checks and chapter tests (pytest)",
+         "fuzzing", "sanitizers: build", "sanitizers: units and chapter runs"]
+        if whole else ["build", "image checks and chapter tests (pytest)"])
+    with parts.part("build"):
+        build(options=WITH_UNIT_TESTS)
     passed = failed = 0
-    if not args.chapter and not args.k:
-        say("C++ unit tests (ctest)")
-        passed, failed = run_ctest(BUILD)
-    say("image checks and chapter tests (pytest)")
+    if whole:
+        with parts.part("C++ unit tests (ctest)"):
+            passed, failed = run_ctest(BUILD)
     pytest = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python"), "-q",
               "-p", "no:cacheprovider", "-rfEs"]
     if args.chapter:
         pytest += ["-m", f"chapter{find_chapter(args.chapter)[:2]}"]
     if args.k:
         pytest += ["-k", args.k]
-    result = subprocess.run(pytest, stdout=subprocess.PIPE, text=True)
+    with parts.part("image checks and chapter tests (pytest)"):
+        result = subprocess.run(pytest, stdout=subprocess.PIPE, text=True)
     print(result.stdout)
     counts = dict((kind, int(n)) for n, kind in
                   re.findall(r"(\d+) (passed|failed|error|errors|skipped)", result.stdout))
@@ -235,25 +242,28 @@ def cmd_test(args):
     skipped = counts.get("skipped", 0)
     if result.returncode not in (0, 1) and failed == 0:
         failed += 1  # pytest itself broke (collection error, no tests)
-    if not args.chapter and not args.k:
+    if whole:
         # Every fuzz target for a short, bounded time: kept crashes are replayed and a
         # new one fails the suite (./course fuzz runs longer).
-        say(f"fuzzing each parser for {FUZZ_SECONDS_IN_TESTS} s (libFuzzer)")
-        for target, result in run_fuzzing(None, FUZZ_SECONDS_IN_TESTS).items():
-            if result["passed"]:
-                passed += 1
-            else:
-                failed += 1
+        with parts.part("fuzzing"):
+            say(f"fuzzing each parser for {FUZZ_SECONDS_IN_TESTS} s (libFuzzer)")
+            for target, outcome in run_fuzzing(None, FUZZ_SECONDS_IN_TESTS).items():
+                if outcome["passed"]:
+                    passed += 1
+                else:
+                    failed += 1
         # The C++ units and a headless run of every chapter, built with ASan + UBSan
         # (./course test --sanitize runs the chapters' image checks under them too).
-        say("sanitizers: the units and every chapter built with ASan + UBSan")
-        build_sanitized()
-        units = run_ctest(SANITIZED, sanitizer_environment(), exclude=SLOW_WHEN_SANITIZED)
-        for more_passed, more_failed in (units, sanitized_chapter_runs()):
-            passed += more_passed
-            failed += more_failed
-    minutes = (time.time() - started) / 60
-    say(f"tests took {minutes:.1f} min")
+        with parts.part("sanitizers: build"):
+            build_sanitized()
+        with parts.part("sanitizers: units and chapter runs"):
+            units = run_ctest(SANITIZED, sanitizer_environment(),
+                              exclude=SLOW_WHEN_SANITIZED)
+            for more_passed, more_failed in (units, sanitized_chapter_runs()):
+                passed += more_passed
+                failed += more_failed
+    print(parts.report(suite_parts.this_run_durations(BUILD / "test-artifacts"),
+                       whole=whole))
     # A skipped check is not a passed one: it counts as a failure here.
     print(f"{passed} passed, {failed + skipped} failed")
     sys.exit(0 if failed + skipped == 0 else 1)

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+import reference_cache
 import sandbox
 from grading_specs import SPECS, GradeTest
 
@@ -506,16 +507,80 @@ def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> P
     digest = hashlib.sha256("\0".join(test.args).encode()).hexdigest()[:10]
     path = folder / f"{test.slug}-{digest}.png"
     if not path.exists():
-        program = build / "bin" / chapter
-        if not program.exists():
-            raise FileNotFoundError(f"no reference {path.name} and no {program} to render "
-                                    "it (was this autograder prepared for other tests?)")
-        # A name of its own, then a rename: two graders may render the same one at once.
-        partial = folder / f".{path.stem}.{os.getpid()}.{threading.get_ident()}.png"
-        subprocess.run([str(program), "--headless", *test.args, "--out", str(partial)],
-                       check=True, capture_output=True, timeout=600)
-        partial.replace(path)
+        render_reference(root, build, chapter, test.args, path, timeout=600)
     return path
+
+
+# What makes a reference besides its arguments, per (root, build, chapter): worked out
+# once per process (hashing the sources and assets takes a moment).
+_MAKERS: dict[tuple[str, str, str], str] = {}
+_MAKERS_LOCK = threading.Lock()
+# Settings of Mesa's that could change its pictures: they are part of a reference's key.
+RENDERER_VARIABLES = ("LP_", "GALLIUM_", "MESA_", "LIBGL_", "DRI_", "__GLX_", "EGL_")
+
+
+def reference_maker(root: Path, build: Path, chapter: str) -> str:
+    """A digest of everything besides the arguments that decides the solution's
+    pictures: the checkpoint's sources and shaders, the common layer, the build files,
+    the assets (committed and generated), the compiler and its flags, the GL that
+    renders (its renderer and version strings name Mesa and LLVM) and Mesa's settings
+    in the environment. None of it is the submission's."""
+    remembered = (str(root), str(build), chapter)
+    with _MAKERS_LOCK:
+        if remembered in _MAKERS:
+            return _MAKERS[remembered]
+    cache = dict(re.findall(r"^(\w+):\w+=(.*)$", (build / "CMakeCache.txt").read_text(),
+                            flags=re.M))
+    compiler = cache.get("CMAKE_CXX_COMPILER", "c++")
+    version = subprocess.run([compiler, "--version"], capture_output=True, text=True,
+                             timeout=60).stdout
+    probe = subprocess.run([str(build / "bin" / chapter), "--headless",
+                            "--probe-loop-limit", "--json"], capture_output=True, text=True,
+                           timeout=120)
+    gl = json.loads(probe.stdout) if probe.returncode == 0 else {}
+    settings = sorted((k, v) for k, v in os.environ.items() if k.startswith(RENDERER_VARIABLES)
+                      and not k.startswith("MESA_SHADER_CACHE"))
+    maker = reference_cache.key(
+        "grading reference", chapter,
+        reference_cache.tree_digest(root / "chapters" / chapter, root / "shaders" / chapter,
+                                    root / "common", root / "cmake", root / "third_party",
+                                    root / "CMakeLists.txt", root / "assets",
+                                    build / "assets"),
+        version, *(f"{k}={cache.get(k, '')}" for k in sorted(cache)
+                   if k.startswith(("CMAKE_BUILD_TYPE", "CMAKE_CXX_FLAGS", "COURSE_"))),
+        gl.get("renderer", "unknown renderer"), gl.get("gl_version", "unknown version"),
+        gl.get("backend", ""), *(f"{k}={v}" for k, v in settings))
+    with _MAKERS_LOCK:
+        _MAKERS[remembered] = maker
+    return maker
+
+
+def render_reference(root: Path, build: Path, chapter: str, arguments: list[str],
+                     path: Path, timeout: float):
+    """Renders the solution's picture for `arguments` into path, or copies it from the
+    per-user reference cache (tools/reference_cache.py) when the same sources, assets,
+    compiler and GL made it before. A name of its own, then a rename: two graders may
+    render the same one at once."""
+    program = build / "bin" / chapter
+    if not program.exists():
+        raise FileNotFoundError(f"no reference {path.name} and no {program} to render "
+                                "it (was this autograder prepared for other tests?)")
+    partial = path.with_name(f".{path.stem}.{os.getpid()}.{threading.get_ident()}"
+                             f"{path.suffix}")
+    name = None
+    if (root / "chapters" / chapter).is_dir() and reference_cache.folder() is not None:
+        name = reference_cache.key(reference_maker(root, build, chapter),
+                                   *arguments) + path.suffix
+        kept = reference_cache.fetch(name)
+        if kept is not None:
+            write_new(partial, kept, 0o600)
+            partial.replace(path)
+            return
+    subprocess.run([str(program), "--headless", *arguments, "--out", str(partial)],
+                   check=True, capture_output=True, timeout=timeout)
+    if name is not None:
+        reference_cache.store(name, partial.read_bytes())
+    partial.replace(path)
 
 
 def statistical_references(root: Path, build: Path, chapter: str,
@@ -533,12 +598,7 @@ def statistical_references(root: Path, build: Path, chapter: str,
         digest = hashlib.sha256("\0".join(arguments).encode()).hexdigest()[:16]
         path = build / "grading" / chapter / f"{test.slug}-{digest}.pfm"
         if not path.exists():
-            # A name of its own, then a rename: two graders may render the same one.
-            partial = path.with_name(f".{path.stem}.{os.getpid()}.{id(arguments)}.pfm")
-            subprocess.run([str(build / "bin" / chapter), "--headless", *arguments,
-                            "--out", str(partial)], check=True, capture_output=True,
-                           timeout=1800)
-            partial.replace(path)
+            render_reference(root, build, chapter, arguments, path, timeout=1800)
         paths.append(path)
     return paths
 
@@ -629,13 +689,16 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
 def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
     """What a submission must not be able to read: a sample of the instructor's tree
     (the solution, the specs, the tests), the build (its programs and flags), the
-    references and the object cache."""
+    references, the object cache and the per-user reference cache."""
     grading = build / "grading"
     paths = [root / "CMakeLists.txt", root / "tools" / "grading_specs.py",
              root / "chapters" / chapter / "main.cpp", root / "shaders" / chapter,
              root / "tests" / "python" / "test_grading.py", build / "compile_commands.json",
              build / "bin" / chapter, grading / chapter, grading / "objects"]
     paths += sorted((grading / chapter).glob("*.p[nf]m"))[:1]  # a PNG or PFM reference
+    kept = reference_cache.folder()
+    if kept is not None:
+        paths.append(kept)
     return paths
 
 
@@ -649,7 +712,9 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
     prepare_references(root, build, chapter)  # as this user, before any student code
     # The handed-in folder is closed too: where the kernel refuses a mount namespace (a
     # chroot, some containers), permissions are all that keep it from the running copy.
-    with sandbox.Sandbox(hide=[root, build, submission, out, *hide],
+    kept = reference_cache.folder()  # the reference cache: 0700, and covered too
+    kept = [kept] if kept is not None and kept.is_dir() else []
+    with sandbox.Sandbox(hide=[root, build, submission, out, *kept, *hide],
                          close=[root, build, submission, *close]) as box:
         source = box.folder("submission", writable=False)
         notes = copy_submission(submission, chapter, source)

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "course/error.h"
+#include "course/gpu_watchdog.h"
 #include "shared.h"
 
 namespace {
@@ -82,6 +83,7 @@ void Accumulation::draw(const course::ShaderProgram& program) {
     program.use();
     glBindVertexArray(emptyVertexArray_);
     glDrawArrays(GL_TRIANGLES, 0, 3);  // one triangle over the image: a fragment a pixel
+    course::gpuStepQueued();           // a sample done: the watchdog's sign of progress
     glBindFramebuffer(GL_FRAMEBUFFER, 0);  // the window's own, for the display
     newest_ = 1 - newest_;
 }

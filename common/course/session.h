@@ -15,6 +15,7 @@
 #include "course/cli.h"
 #include "course/error.h"
 #include "course/gl_context.h"
+#include "course/gpu_watchdog.h"  // waitForGpu()
 #include "course/gpu_buffer.h"
 #include "course/shader_program.h"
 #include "course/stats.h"
@@ -51,7 +52,8 @@ public:
     // (the GL 3.3 appendix draws instead of dispatching). Messages name the first.
     ShaderProgram& loadProgram(const std::vector<ShaderStage>& stages);
 
-    // Runs `render`, waits for the GPU, and records wall_ms and gpu_ms.
+    // Runs `render`, waits for the GPU, and records wall_ms and gpu_ms; a step of it
+    // that never finishes ends the program (course/gpu_watchdog.h).
     void timeRender(const std::function<void()>& render);
 
     // The end of a render. Headless: writes the image to --out (default
@@ -83,10 +85,6 @@ private:
     const ImageBuffer* display_ = nullptr;
     std::function<void()> toDisplay_;
 };
-
-// Blocks until the GPU has finished all queued work; ends the program with exit code 4
-// and a message if that takes longer than COURSE_GPU_TIMEOUT_SECONDS (default 600).
-void waitForGpu();
 
 // Parses the command line, makes the session, runs `body`, and turns every Failure
 // into its message and exit code. --json prints the statistics at the end.

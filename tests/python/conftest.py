@@ -24,6 +24,9 @@ ROOT = Path(__file__).resolve().parents[2]
 BIN = Path(os.environ.get("COURSE_BIN_DIR", ROOT / "build" / "bin"))
 sys.path.insert(0, str(ROOT / "python_prototypes"))
 
+# The suite's clock: progress on stderr, and each check's time for the next estimate.
+pytest_plugins = ["suite_clock"]
+
 BACKENDS = ["egl", "osmesa"]
 RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
 

@@ -12,15 +12,22 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 
 from __future__ import annotations
 
+import dataclasses
+import io
 import math
+import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from conftest import ROOT, copy_shaders, read_pfm, regions_agreeing, run_chapter
+
+sys.path.insert(0, str(ROOT / "tools"))
+import reference_cache  # noqa: E402
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
@@ -83,10 +90,55 @@ def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
     import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     height, width = ours.shape[:2]
-    theirs, _ = mitsuba_reference.render_mitsuba(scene, width, height, spp, 6, seed=0,
-                                                 variant="scalar_rgb")
-    return regions_agreeing(ours, np.asarray(theirs)[..., :3], scene_file, SIGMAS,
+    theirs = kept_mitsuba(scene, width, height, spp, 6, seed=0, variant="scalar_rgb")
+    return regions_agreeing(ours, theirs, scene_file, SIGMAS,
                             mesh_folders, most_relative)
+
+
+def scene_fingerprint(value) -> str:
+    """The parsed scene as text, with each file it reads (meshes, textures, skies) as
+    the digest of its bytes instead of its path, so that the same scene in another
+    clone or folder has the same fingerprint; where a line was read is left out."""
+    if dataclasses.is_dataclass(value):
+        fields = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)
+                  if f.name not in ("line", "written_path")}
+        if type(value).__name__ == "Scene":
+            fields.pop("path")  # the file itself: what it says is in the fields
+        return f"{type(value).__name__}({scene_fingerprint(fields)})"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k!r}: {scene_fingerprint(v)}"
+                               for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(scene_fingerprint(v) for v in value) + "]"
+    if isinstance(value, Path):
+        return f"file {reference_cache.file_digest(value)}"
+    return repr(value)
+
+
+def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,
+                 variant: str = "scalar_rgb") -> np.ndarray:
+    """Mitsuba 3's render (mitsuba_reference.render_mitsuba: linear RGB, row 0 at the
+    top), kept in the per-user reference cache (tools/reference_cache.py) under what
+    makes it: the scene with its files' bytes, the size, samples, depth, seed, variant,
+    Mitsuba's and Dr.Jit's versions, the cores, and the prototypes that translate it."""
+    pytest.importorskip("mitsuba")
+    import drjit
+    import mitsuba
+    import mitsuba_reference
+    name = reference_cache.key(
+        "mitsuba render", mitsuba.__version__, drjit.__version__, variant, width, height,
+        spp, bounces, seed, os.cpu_count(), scene_fingerprint(scene),
+        reference_cache.tree_digest(ROOT / "python_prototypes")) + ".npy"
+    kept = reference_cache.fetch(name)
+    if kept is not None:
+        return np.load(io.BytesIO(kept), allow_pickle=False)
+    image, _ = mitsuba_reference.render_mitsuba(scene, width, height, spp, bounces,
+                                                seed=seed, variant=variant)
+    image = np.ascontiguousarray(np.asarray(image, dtype=np.float32)[..., :3])
+    payload = io.BytesIO()
+    np.save(payload, image, allow_pickle=False)
+    reference_cache.store(name, payload.getvalue())
+    return image
 
 
 def close_up(scene_file: Path, name: str, folder: Path, size: int, mesh_folders=(),
@@ -161,9 +213,7 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
     ours = path_trace(chapter, tmp_path, f"close_up_{name}", "--scene", close, "--width",
                       width, "--height", height, "--spp", spp, *extra)
     scene = scene_io.load_scene(str(close), folders)
-    theirs, _ = mitsuba_reference.render_mitsuba(scene, width, height, mitsuba_spp, 6,
-                                                 seed=0)
-    theirs = np.asarray(theirs, dtype=np.float64)[..., :3]
+    theirs = kept_mitsuba(scene, width, height, mitsuba_spp, 6, seed=0).astype(np.float64)
     mask = mitsuba_reference.region_masks(scene, width, height)[name]
     relative, error = brightness_difference(ours[mask], theirs[mask])
     print(f"{name}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels, "
@@ -179,8 +229,8 @@ def mitsuba_regions(scene_file: Path, spp: int, size: int, mesh_folders=()):
     import mitsuba_reference
     import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
-    image, _ = mitsuba_reference.render_mitsuba(scene, size, size, spp, 6, seed=0)
-    return (np.asarray(image)[..., :3],
+    image = kept_mitsuba(scene, size, size, spp, 6, seed=0)
+    return (image,
             mitsuba_reference.region_masks(scene, size, size), scene_file)
 
 

@@ -161,7 +161,7 @@ def test_a_shader_that_loops_forever_ends_in_time(tmp_path, chapter):
         # Debian 13: the dispatch returns at once and the results are simply wrong).
         assert result.returncode in (0, 1, 4), result.stderr
         if result.returncode == 4:
-            assert "did not finish within 15 s" in result.stderr
+            assert "finished no step of the render for 15 s" in result.stderr
     else:
         assert result.returncode in (0, 1), result.stderr
     leftovers = [p.name for p in work.iterdir() if ".tmp" in p.name]

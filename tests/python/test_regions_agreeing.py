@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 from conftest import ROOT, SPREAD_FOR_A_RATIO, regions_agreeing
 
+import path_checks
+
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 SCENES = ROOT / "assets" / "scenes"
@@ -23,15 +25,13 @@ CASES = [("cornell_spheres", 48, 48, 256), ("cornell_metals", 64, 64, 256),
 
 @pytest.fixture(scope="module", params=CASES, ids=[case[0] for case in CASES])
 def two_renders(request):
-    pytest.importorskip("mitsuba")
     import mitsuba_reference
     import scene_io
     name, width, height, spp = request.param
     scene_file = SCENES / f"{name}.scene"
     scene = scene_io.load_scene(str(scene_file), [])
-    a, b = (np.asarray(mitsuba_reference.render_mitsuba(scene, width, height, spp, 6,
-                                                         seed=seed)[0], dtype=np.float64)
-            for seed in (1, 2))
+    a, b = (path_checks.kept_mitsuba(scene, width, height, spp, 6, seed=seed)
+            .astype(np.float64) for seed in (1, 2))
     masks = mitsuba_reference.region_masks(scene, width, height)
     return a, b, scene_file, masks
 

@@ -1,0 +1,87 @@
+"""The suite's clock, a pytest plugin (conftest.py loads it).
+
+As the checks run it says on stderr where they are: checks done of how many, the file
+at hand, the time so far and the time left, expected from the last run's durations
+(build/test-artifacts/check-durations.json, updated at the end of each run that ran more
+than a handful of checks). ./course test prints this run's slowest checks
+(check-durations-this-run.json), so that drift shows in every log. Quiet when pytest runs a single check."""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+ARTIFACTS = Path(__file__).resolve().parents[2] / "build" / "test-artifacts"
+DURATIONS = ARTIFACTS / "check-durations.json"  # every check's last time: the estimate
+THIS_RUN = ARTIFACTS / "check-durations-this-run.json"  # this run's checks alone
+EVERY_SECONDS = 30.0  # at most one progress line this often
+SMALLEST_RUN_KEPT = 20  # a run of fewer checks leaves the last estimate as it was
+
+
+def minutes(seconds: float) -> str:
+    seconds = max(0, int(round(seconds)))
+    return f"{seconds // 60}:{seconds % 60:02d}"
+
+
+def read_durations(path: Path = DURATIONS) -> dict[str, float]:
+    try:
+        return {k: float(v) for k, v in json.loads(path.read_text()).items()}
+    except (OSError, ValueError, AttributeError):
+        return {}
+
+
+class SuiteClock:
+    def __init__(self):
+        self.started = time.monotonic()
+        self.last_said = self.started
+        self.expected = read_durations()
+        self.seconds: dict[str, float] = {}
+        self.items: list[str] = []
+        self.done: set[str] = set()
+
+    def pytest_collection_finish(self, session):
+        self.items = [item.nodeid for item in session.items]
+
+    def pytest_runtest_logreport(self, report):
+        self.seconds[report.nodeid] = self.seconds.get(report.nodeid, 0.0) + report.duration
+        if report.when != "teardown":
+            return
+        self.done.add(report.nodeid)
+        now = time.monotonic()
+        if len(self.items) > 1 and now - self.last_said >= EVERY_SECONDS:
+            self.last_said = now
+            self.say(report.nodeid.split("::")[0].rsplit("/", 1)[-1], now)
+
+    def time_left(self) -> float | None:
+        if not self.expected:
+            return None
+        known = [self.expected[n] for n in self.items if n in self.expected]
+        typical = sorted(known)[len(known) // 2] if known else 0.0
+        return sum(self.expected.get(n, typical) for n in self.items if n not in self.done)
+
+    def say(self, where: str, now: float):
+        left = self.time_left()
+        estimate = f", about {minutes(left)} left" if left is not None else ""
+        print(f"course: pytest {len(self.done)}/{len(self.items)} checks ({where}), "
+              f"{minutes(now - self.started)} elapsed{estimate}", file=sys.__stderr__,
+              flush=True)
+
+    def pytest_sessionfinish(self, session):
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        this_run = {k: round(v, 3) for k, v in self.seconds.items()}
+        write_json(THIS_RUN, this_run)
+        if len(this_run) >= SMALLEST_RUN_KEPT:
+            write_json(DURATIONS, {**self.expected, **this_run})
+
+
+def write_json(path: Path, value: dict):
+    partial = path.with_name(f".{path.name}.{os.getpid()}")
+    partial.write_text(json.dumps(value, indent=0, sort_keys=True))
+    partial.replace(path)
+
+
+def pytest_configure(config):
+    config.pluginmanager.register(SuiteClock(), "suite_clock_instance")

@@ -1,0 +1,178 @@
+"""The per-user reference cache (tools/reference_cache.py): an entry comes back whole or
+not at all, a damaged one is made again and never used, and a grading reference's key
+changes with every input that makes the picture, so that a change anywhere renders
+anew instead of comparing with a stale picture."""
+
+from __future__ import annotations
+
+import shutil
+import stat
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+import grader  # noqa: E402
+import reference_cache  # noqa: E402
+
+BUILD = ROOT / "build"
+CHAPTER = "02_first_pixels"
+ARGUMENTS = ["--width", "24", "--height", "16", "--dispatch", "2d"]
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("COURSE_REFERENCE_CACHE", str(folder))
+    return folder
+
+
+def entry_path(cache, name):
+    return cache / name[:2] / name
+
+
+def test_an_entry_comes_back_whole_and_private(cache):
+    name = reference_cache.key("picture", 1) + ".png"
+    assert reference_cache.fetch(name) is None
+    reference_cache.store(name, b"\x89PNG pixels")
+    assert reference_cache.fetch(name) == b"\x89PNG pixels"
+    assert stat.S_IMODE(cache.stat().st_mode) == 0o700
+
+
+@pytest.mark.parametrize("damage", [
+    lambda data: data[:-3],                     # torn: the write stopped short
+    lambda data: data[:-1] + bytes([data[-1] ^ 1]),  # one bit flipped on the disk
+    lambda data: data.replace(b" 1 ", b" 2 ", 1),    # another format's header
+    lambda data: b"",                            # an empty file
+    lambda data: data + b"more",                 # something appended
+], ids=["torn", "bit flipped", "other format", "empty", "appended"])
+def test_a_damaged_entry_is_never_used_and_is_made_again(cache, damage):
+    name = reference_cache.key("picture", 2) + ".pfm"
+    reference_cache.store(name, b"PF\n1 1\n-1.0\n" + bytes(12))
+    path = entry_path(cache, name)
+    path.write_bytes(damage(path.read_bytes()))
+    assert reference_cache.fetch(name) is None
+    assert not path.exists()
+    reference_cache.store(name, b"again")
+    assert reference_cache.fetch(name) == b"again"
+
+
+def test_off_keeps_nothing(tmp_path, monkeypatch):
+    monkeypatch.setenv("COURSE_REFERENCE_CACHE", "off")
+    assert reference_cache.folder() is None
+    reference_cache.store("ab.png", b"x")
+    assert reference_cache.fetch("ab.png") is None
+
+
+def test_an_unwritable_cache_is_only_a_missed_shortcut(tmp_path, monkeypatch):
+    in_the_way = tmp_path / "file"
+    in_the_way.write_text("a file where the cache folder would be\n")
+    monkeypatch.setenv("COURSE_REFERENCE_CACHE", str(in_the_way / "cache"))
+    reference_cache.store("ab.png", b"x")
+    assert reference_cache.fetch("ab.png") is None
+
+
+def test_keys_tell_their_parts_apart(tmp_path):
+    assert reference_cache.key("ab", "c") != reference_cache.key("a", "bc")
+    assert reference_cache.key("1") != reference_cache.key(b"1")
+    one, two = tmp_path / "one" / "tree", tmp_path / "two" / "tree"  # the same name
+    one.mkdir(parents=True), two.mkdir(parents=True)
+    (one / "a.txt").write_text("same")
+    (two / "a.txt").write_text("same")
+    assert reference_cache.tree_digest(one) == reference_cache.tree_digest(two)
+    (two / "a.txt").write_text("other")
+    assert reference_cache.tree_digest(one) != reference_cache.tree_digest(two)
+    (two / "a.txt").write_text("same")
+    (two / "b.txt").write_text("")
+    assert reference_cache.tree_digest(one) != reference_cache.tree_digest(two)
+    (two / "b.txt").rename(two / "c.txt")
+    before = reference_cache.tree_digest(two)
+    (two / "c.txt").rename(two / "d.txt")
+    assert reference_cache.tree_digest(two) != before
+
+
+# ---------------------------------------------------------------- the grader's references
+
+@pytest.fixture
+def instructor_tree(tmp_path):
+    """A copy of what makes chapter 02's references, to change one thing at a time."""
+    root = tmp_path / "root"
+    for part in (f"chapters/{CHAPTER}", f"shaders/{CHAPTER}", "common", "cmake",
+                 "third_party", "assets"):
+        shutil.copytree(ROOT / part, root / part)
+    shutil.copyfile(ROOT / "CMakeLists.txt", root / "CMakeLists.txt")
+    return root
+
+
+def maker(root, build=BUILD):
+    grader._MAKERS.clear()
+    return grader.reference_maker(root, build, CHAPTER)
+
+
+CHANGES = {
+    "the chapter's host code": lambda root: append(root / "chapters" / CHAPTER / "main.cpp"),
+    "the chapter's shaders": lambda root: append(root / "shaders" / CHAPTER / "pattern.glsl"),
+    "the common layer": lambda root: append(root / "common" / "session.cpp"),
+    "the build files": lambda root: append(root / "CMakeLists.txt", "# x\n"),
+    "a scene file": lambda root: append(root / "assets" / "scenes" / "cornell_box.scene",
+                                        "# x\n"),
+    "a new asset": lambda root: (root / "assets" / "new.txt").write_text("x"),
+}
+
+
+def append(path, text="// x\n"):
+    path.write_text(path.read_text() + text)
+
+
+@pytest.mark.parametrize("change", CHANGES)
+def test_every_input_of_a_reference_changes_its_key(instructor_tree, change):
+    before = maker(instructor_tree)
+    assert maker(instructor_tree) == before  # the same inputs, the same key
+    CHANGES[change](instructor_tree)
+    assert maker(instructor_tree) != before, change
+
+
+def test_the_renderer_and_its_settings_are_in_the_key(instructor_tree, monkeypatch):
+    before = maker(instructor_tree)
+    monkeypatch.setenv("LP_NATIVE_VECTOR_WIDTH", "128")
+    assert maker(instructor_tree) != before
+    monkeypatch.delenv("LP_NATIVE_VECTOR_WIDTH")
+    real_run = subprocess.run
+
+    def another_mesa(command, **kwargs):
+        result = real_run(command, **kwargs)
+        if "--probe-loop-limit" in command:
+            result.stdout = result.stdout.replace("Mesa ", "Mesa 99.")
+        return result
+    monkeypatch.setattr(grader.subprocess, "run", another_mesa)
+    assert maker(instructor_tree) != before
+
+
+def test_a_reference_is_rendered_once_then_kept(tmp_path, cache, monkeypatch):
+    renders = []
+    real_run = subprocess.run
+
+    def counted(command, **kwargs):
+        if "--out" in command:
+            renders.append(command)
+        return real_run(command, **kwargs)
+    monkeypatch.setattr(grader.subprocess, "run", counted)
+    first, second = tmp_path / "first.png", tmp_path / "second.png"
+    grader.render_reference(ROOT, BUILD, CHAPTER, ARGUMENTS, first, timeout=120)
+    grader.render_reference(ROOT, BUILD, CHAPTER, ARGUMENTS, second, timeout=120)
+    assert len(renders) == 1 and first.read_bytes() == second.read_bytes()
+    # Other arguments (the same picture, drawn another way): rendered all the same.
+    grader.render_reference(ROOT, BUILD, CHAPTER, ARGUMENTS[:-1] + ["1d"],
+                            tmp_path / "third.png", timeout=120)
+    assert len(renders) == 2
+    # A damaged entry is rendered again, never copied.
+    [entry] = [p for p in cache.rglob("*.png") if p.name.startswith(
+        reference_cache.key(grader.reference_maker(ROOT, BUILD, CHAPTER), *ARGUMENTS))]
+    entry.write_bytes(entry.read_bytes()[:-10])
+    grader.render_reference(ROOT, BUILD, CHAPTER, ARGUMENTS, tmp_path / "fourth.png",
+                            timeout=120)
+    assert len(renders) == 3 and (tmp_path / "fourth.png").read_bytes() == first.read_bytes()
+    assert entry.read_bytes().endswith(first.read_bytes())  # and kept whole again
