@@ -227,7 +227,7 @@ def cmd_test(args):
         with parts.part("C++ unit tests (ctest)"):
             passed, failed = run_ctest(BUILD)
     pytest = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python"), "-q",
-              "-p", "no:cacheprovider", "-rfEs"]
+              "-p", "no:cacheprovider", "-rfEs", *spread_over_cores()]
     if args.chapter:
         pytest += ["-m", f"chapter{find_chapter(args.chapter)[:2]}"]
     if args.k:
@@ -267,6 +267,19 @@ def cmd_test(args):
     # A skipped check is not a passed one: it counts as a failure here.
     print(f"{passed} passed, {failed + skipped} failed")
     sys.exit(0 if failed + skipped == 0 else 1)
+
+
+def spread_over_cores() -> list[str]:
+    """pytest-xdist's options: one worker per core (at most 8), each taking whole groups
+    of checks (tests/python/conftest.py's work_group). Renders keep every core busy on
+    their own, but much of the suite does not: compiling shaders, starting programs,
+    numpy references, the grader's sandbox. COURSE_TEST_WORKERS=1 runs in one process."""
+    workers = int(os.environ.get("COURSE_TEST_WORKERS", 0)) or min(os.cpu_count() or 1, 8)
+    try:
+        import xdist  # noqa: F401
+    except ImportError:
+        return []
+    return ["-n", str(workers), "--dist", "loadgroup"] if workers > 1 else []
 
 
 def run_ctest(build_dir: Path, env: dict | None = None,
@@ -313,13 +326,19 @@ def sanitized_chapter_runs() -> tuple[int, int]:
     with a non-zero exit code. (passed, failed), one per chapter."""
     passed = failed = 0
     with tempfile.TemporaryDirectory(prefix="course-sanitize-") as folder:
-        for name in chapters():
+        def run(name: str):
             arguments = SANITIZER_RUN_ARGUMENTS.get(name) or [
                 "--width", "24", "--height", "24", "--out", f"{folder}/{name}.png"]
             command = [str(SANITIZED / "bin" / name), "--headless", *arguments,
                        *SANITIZER_EXTRA_ARGUMENTS.get(name, [])]
-            result = subprocess.run(command, capture_output=True, text=True, timeout=600,
-                                    env=sanitizer_environment())
+            return command, subprocess.run(command, capture_output=True, text=True,
+                                           timeout=600, env=sanitizer_environment())
+        # One at a time per core: a tiny render's time goes to starting the program and
+        # compiling its shaders, on one core each.
+        from concurrent.futures import ThreadPoolExecutor
+        with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+            runs = list(pool.map(run, chapters()))
+        for command, result in runs:
             if result.returncode == 0:
                 passed += 1
             else:
@@ -374,10 +393,11 @@ def run_fuzzing(target_filter: str | None, seconds: int) -> dict[str, dict]:
         targets = [t for t in targets if target_filter in t]
         if not targets:
             die(f"no fuzz target matching '{target_filter}'", code=2)
-    summary = {}
-    for target in targets:
+    def fuzz(target: str) -> tuple[dict, str]:
+        """One target: its kept crashes replayed, then `seconds` of fuzzing. libFuzzer
+        runs on one core, so the targets run side by side, one per core."""
         program = FUZZ_BUILD / "fuzz" / target
-        passed = True
+        passed, report = True, ""
         kept_folder = FUZZ_REGRESSIONS / target
         kept = sorted(kept_folder.glob("*")) if kept_folder.exists() else []
         if kept:
@@ -385,7 +405,7 @@ def run_fuzzing(target_filter: str | None, seconds: int) -> dict[str, dict]:
             replay = subprocess.run([str(program), *map(str, kept)], capture_output=True,
                                     text=True)
             if replay.returncode != 0:
-                print(replay.stderr[-3000:])
+                report += replay.stderr[-3000:] + "\n"
                 passed = False
         corpus = FUZZ_BUILD / "corpus" / target
         crashes = FUZZ_BUILD / "crashes" / target
@@ -406,11 +426,20 @@ def run_fuzzing(target_filter: str | None, seconds: int) -> dict[str, dict]:
             shutil.copyfile(crash, keep)
         if found or result.returncode != 0:
             passed = False
-            print(result.stderr[-3000:])
-        summary[target] = {"seconds": seconds, "crashes": len(found), "passed": passed,
-                           "executions": int(executions.group(1)) if executions else 0}
-        print(f"{target:24} {summary[target]['executions']:>10} runs in {seconds} s, "
-              f"{len(found)} crashes")
+            report += result.stderr[-3000:] + "\n"
+        entry = {"seconds": seconds, "crashes": len(found), "passed": passed,
+                 "executions": int(executions.group(1)) if executions else 0}
+        report += (f"{target:24} {entry['executions']:>10} runs in {seconds} s, "
+                   f"{len(found)} crashes")
+        return entry, report
+
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        outcomes = list(pool.map(fuzz, targets))
+    summary = {}
+    for target, (entry, report) in zip(targets, outcomes):
+        summary[target] = entry
+        print(report)
     (FUZZ_BUILD / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary
 

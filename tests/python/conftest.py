@@ -46,6 +46,57 @@ def pytest_collection_modifyitems(items):
         match = re.match(r"test_(\d\d|A\d)_", Path(str(item.fspath)).name)
         if match:
             item.add_marker(getattr(pytest.mark, f"chapter{match.group(1)}"))
+        item.add_marker(pytest.mark.xdist_group(work_group(item)))
+    longest_groups_first(items)
+
+
+# The checks of the graders that share a chapter's build/grading/NN: the solution's
+# grading test empties it first, so they must not run beside one another.
+GRADER_CHECKS = {"test_grading.py", "test_grader_isolation.py"}
+SHARED_BOOK = {"test_book.py", "test_book_browser.py", "test_editions.py",
+               "test_layout.py", "test_portability.py"}
+GRADER_CHAPTERS = ("01", "02", "04")  # the chapters the grader's own checks grade
+
+
+def work_group(item) -> str:
+    """The checks that run one after another in one worker when ./course test spreads
+    the suite over the cores (pytest-xdist --dist loadgroup): a file's checks, which share
+    its module fixtures; a chapter's gradings (its solution and starter, its catalogue
+    of variants), which share build/grading/NN; the grader's own checks with the
+    gradings of the chapters they grade; the book's checks, which share book/site."""
+    file = Path(str(item.fspath)).name
+    params = getattr(getattr(item, "callspec", None), "params", {})
+    chapter = params.get("chapter") if file == "test_grading.py" else None
+    if file == "test_grading_statistics.py" and "variant" in params:
+        chapter = params["variant"].chapter
+    if chapter:
+        number = str(chapter)[:2]
+        return "grading-early" if number in GRADER_CHAPTERS else f"grading-{number}"
+    if file in GRADER_CHECKS:
+        return "grading-early"
+    if file in SHARED_BOOK:
+        return "book"
+    return file
+
+
+def longest_groups_first(items):
+    """Orders the groups by their checks' times in the last run, longest first, each
+    group's checks kept in their order: pytest-xdist hands out groups in this order, so
+    the long ones start early and the short ones fill in (unknown checks count a
+    second)."""
+    from suite_clock import read_durations
+    durations = read_durations()
+    groups: dict[str, list] = {}
+    for item in items:
+        groups.setdefault(group_of(item), []).append(item)
+    ranked = sorted(groups.values(), key=lambda group: -sum(
+        durations.get(item.nodeid, 1.0) for item in group))
+    items[:] = [item for group in ranked for item in group]
+
+
+def group_of(item) -> str:
+    marker = item.get_closest_marker("xdist_group")
+    return marker.args[0] if marker and marker.args else marker.kwargs.get("name", "")
 
 
 @dataclass

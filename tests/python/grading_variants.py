@@ -35,6 +35,12 @@ class Variant:
         return "".join(c if c.isalnum() else "_" for c in self.name.lower())[:60]
 
 
+def solution(chapter: str) -> Variant:
+    """The solution itself, unchanged: graded with its catalogue, it must score full
+    marks (test_grading.py's check of the solution, for these chapters)."""
+    return Variant(chapter, "the solution as it is", True, ())
+
+
 def apply(variant: Variant, root: Path, destination: Path) -> Path:
     """Copies the solution's chapter folders into destination and applies the edits."""
     import shutil

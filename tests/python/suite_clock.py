@@ -14,6 +14,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 ARTIFACTS = Path(__file__).resolve().parents[2] / "build" / "test-artifacts"
 DURATIONS = ARTIFACTS / "check-durations.json"  # every check's last time: the estimate
 THIS_RUN = ARTIFACTS / "check-durations-this-run.json"  # this run's checks alone
@@ -44,6 +46,12 @@ class SuiteClock:
 
     def pytest_collection_finish(self, session):
         self.items = [item.nodeid for item in session.items]
+
+    @pytest.hookimpl(optionalhook=True)
+    def pytest_xdist_node_collection_finished(self, node, ids):
+        """Spread over workers (pytest-xdist), the controller collects nothing itself:
+        each worker says what it collected (all the same checks)."""
+        self.items = list(ids)
 
     def pytest_runtest_logreport(self, report):
         self.seconds[report.nodeid] = self.seconds.get(report.nodeid, 0.0) + report.duration
@@ -84,4 +92,6 @@ def write_json(path: Path, value: dict):
 
 
 def pytest_configure(config):
+    if hasattr(config, "workerinput"):
+        return  # a pytest-xdist worker: the controller keeps the clock
     config.pluginmanager.register(SuiteClock(), "suite_clock_instance")

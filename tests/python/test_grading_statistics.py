@@ -3,9 +3,9 @@ whose truth is known, its guards, and the two catalogues of grading_variants.py 
 for real: every correct-but-different implementation scores at least 90%, every
 plausible wrong one at most half.
 
-The catalogues grade each variant with grader.grade, two at a time (the machine's two
-cores), and write the scores and times to build/test-artifacts/grading-catalogue-NN.txt
-(the instructors page quotes them)."""
+The catalogues grade each variant with grader.grade, a chapter's two at a time (the
+machine's two cores), and write the scores and times to
+build/test-artifacts/grading-catalogue-NN.txt (the instructors page quotes them)."""
 
 import math
 import os
@@ -265,7 +265,8 @@ CATALOGUES = {"09": "09_random_numbers", "10": "10_scenes", "11": "11_path_traci
               "13": "13_bvh", "14": "14_bvh_sah", "15": "15_metals",
               "16": "16_glass", "17": "17_lens_textures", "18": "18_environment",
               "20": "20_wavefront", "A1": "A1_gl33_fragment"}
-VARIANTS = [v for number in CATALOGUES for v in grading_variants.CATALOGUE[number]]
+VARIANTS = [v for number, chapter in CATALOGUES.items()
+            for v in (grading_variants.solution(chapter), *grading_variants.CATALOGUE[number])]
 
 
 def test_the_catalogues_cover_every_statistical_chapter():
@@ -285,51 +286,57 @@ def grade_variant(variant, folder: Path) -> tuple[dict, float]:
     return results, time.monotonic() - started
 
 
-@pytest.fixture(scope="module")
+GRADED: dict[str, dict] = {}  # chapter -> {variant: (results, seconds)}, in this process
+
+
+@pytest.fixture
 def catalogue_results(request, tmp_path_factory):
-    """Grades every variant pytest selected, two at a time, once for the module: the
-    solution's references first (rendered once and kept), then the submissions."""
-    selected = [item.callspec.params["variant"] for item in request.session.items
-                if getattr(item, "callspec", None) and "variant" in item.callspec.params
-                and item.originalname == "test_catalogue_variant"]
-    for chapter in sorted({v.chapter for v in selected}):
+    """Grades every variant of the requested variant's chapter that pytest selected, two
+    at a time, once per chapter: the solution's references first (kept: the grader's
+    build/grading and the per-user reference cache), then the submissions. A chapter's
+    variants run in one worker (conftest.work_group), the chapters spread over them."""
+    chapter = request.node.callspec.params["variant"].chapter
+    if chapter not in GRADED:
+        selected = [item.callspec.params["variant"] for item in request.session.items
+                    if getattr(item, "callspec", None) and "variant" in item.callspec.params
+                    and item.originalname == "test_catalogue_variant"
+                    and item.callspec.params["variant"].chapter == chapter]
         grader.prepare_references(ROOT, BUILD, chapter)
-    base = tmp_path_factory.mktemp("catalogue")
-    started = time.monotonic()
-    with ThreadPoolExecutor(max_workers=min(2, os.cpu_count() or 1)) as pool:
-        graded = dict(zip(selected, pool.map(
-            lambda v: grade_variant(v, base / f"{v.chapter[:2]}-{v.slug}"), selected)))
-    write_summary(graded, time.monotonic() - started)
-    return graded
+        base = tmp_path_factory.mktemp(f"catalogue-{chapter[:2]}")
+        started = time.monotonic()
+        with ThreadPoolExecutor(max_workers=min(2, os.cpu_count() or 1)) as pool:
+            GRADED[chapter] = dict(zip(selected, pool.map(
+                lambda v: grade_variant(v, base / v.slug), selected)))
+        write_summary(chapter, GRADED[chapter], time.monotonic() - started)
+    return GRADED[chapter]
 
 
-def write_summary(graded: dict, seconds: float):
+def write_summary(chapter: str, graded: dict, seconds: float):
     """One file per chapter: each variant's share of the points, each test's score."""
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
-    for number, chapter in CATALOGUES.items():
-        rows = [(v, r) for v, r in graded.items() if v.chapter == chapter]
-        if not rows:
-            continue
-        lines = [f"chapter {chapter}: {len(rows)} variants graded in {seconds:.0f} s "
-                 f"(all selected chapters, two at a time)"]
-        for variant, (results, elapsed) in rows:
-            total = sum(t["max_score"] for t in results["tests"])
-            lines.append(f"{'correct' if variant.correct else 'wrong  '} "
-                         f"{results['score'] / total:6.0%}  {elapsed:5.0f} s  {variant.name}")
-            lines += [f"            {t['score']:>4} / {t['max_score']:<4} {t['name']}"
-                      for t in results["tests"]]
-        (ARTIFACTS / f"grading-catalogue-{number}.txt").write_text("\n".join(lines) + "\n")
+    lines = [f"chapter {chapter}: {len(graded)} variants graded in {seconds:.0f} s "
+             f"(two at a time)"]
+    for variant, (results, elapsed) in graded.items():
+        total = sum(t["max_score"] for t in results["tests"])
+        lines.append(f"{'correct' if variant.correct else 'wrong  '} "
+                     f"{results['score'] / total:6.0%}  {elapsed:5.0f} s  {variant.name}")
+        lines += [f"            {t['score']:>4} / {t['max_score']:<4} {t['name']}"
+                  for t in results["tests"]]
+    (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.txt").write_text("\n".join(lines) + "\n")
 
 
 @pytest.mark.parametrize("variant", VARIANTS,
                          ids=[f"{v.chapter[:2]}-{'correct' if v.correct else 'wrong'}-{v.slug}"
                               for v in VARIANTS])
 def test_catalogue_variant(variant, catalogue_results):
-    """Correct but different: at least 90%. Plausibly wrong: at most half."""
+    """The solution itself: full marks. Correct but different: at least 90%. Plausibly
+    wrong: at most half."""
     results, _ = catalogue_results[variant]
     total = sum(t["max_score"] for t in results["tests"])
     scores = {t["name"]: (t["score"], t["output"].splitlines()[0]) for t in results["tests"]}
-    if variant.correct:
+    if not variant.edits:
+        assert results["score"] == total, scores
+    elif variant.correct:
         assert results["score"] >= 0.9 * total, scores
     else:
         assert results["score"] <= 0.5 * total, scores
