@@ -10,6 +10,7 @@
 
 #include "course/error.h"
 #include "course/gl.h"
+#include "course/render_progress.h"
 
 namespace course {
 
@@ -56,6 +57,7 @@ std::thread watcher;
 
 void gpuStepQueued() {
     noteProgress();
+    RenderProgress::stepTaken();
     if (stepFences.size() == kMostFences) {
         glDeleteSync(stepFences.front());
         stepFences.pop_front();

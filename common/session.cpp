@@ -15,6 +15,7 @@
 
 #include "course/display.h"
 #include "course/gpu_watchdog.h"
+#include "course/render_progress.h"
 #include "course/image_file.h"
 #include "course/log.h"
 #include "course/loop_budget.h"
@@ -59,6 +60,11 @@ ShaderProgram& Session::loadCompute(const std::string& fileName, GeneratedFiles 
 ShaderProgram& Session::loadProgram(const std::vector<ShaderStage>& stages) {
     programs_.push_back(ShaderProgram(shaderDir_, stages));
     return programs_.back();
+}
+
+void Session::timeRender(const std::function<void()>& render, const unsigned& samplesDone) {
+    RenderProgress progress(samplesDone, options_.spp);
+    timeRender(render);
 }
 
 void Session::timeRender(const std::function<void()>& render) {

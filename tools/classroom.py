@@ -277,6 +277,7 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
                      f"manifests/{chapter}.ini", "tools/machine_setup.py",
                      "tools/platforms.py", "tools/platforms.ini", "cmake", "common",
                      "third_party", "tests/python/conftest.py",
+                     "tests/python/suite_clock.py", "tools/suite_parts.py",
                      "tests/python/test_command_line.py", ".gitignore"):
         copy(relative)
     if (root / "assets").exists():

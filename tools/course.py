@@ -271,7 +271,7 @@ def cmd_test(args):
 
 def spread_over_cores() -> list[str]:
     """pytest-xdist's options: one worker per core (at most 8), each taking whole groups
-    of checks (tests/python/conftest.py's work_group). Renders keep every core busy on
+    of checks (tests/python/conftest.py's work_group and its scheduler). Renders keep every core busy on
     their own, but much of the suite does not: compiling shaders, starting programs,
     numpy references, the grader's sandbox. COURSE_TEST_WORKERS=1 runs in one process."""
     workers = int(os.environ.get("COURSE_TEST_WORKERS", 0)) or min(os.cpu_count() or 1, 8)
@@ -279,7 +279,7 @@ def spread_over_cores() -> list[str]:
         import xdist  # noqa: F401
     except ImportError:
         return []
-    return ["-n", str(workers), "--dist", "loadgroup"] if workers > 1 else []
+    return ["-n", str(workers), "--dist", "loadscope"] if workers > 1 else []
 
 
 def run_ctest(build_dir: Path, env: dict | None = None,

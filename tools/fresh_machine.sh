@@ -5,7 +5,7 @@
 # venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
 # and pip reach the package mirrors as they do here.)
 #
-#   tools/fresh_machine.sh SUITE [--chapter NN] [--gradescope NN] [--keep]
+#   tools/fresh_machine.sh SUITE [--chapter NN] [--gradescope NN] [--caches] [--keep]
 #
 #   SUITE         bookworm (Debian 12), trixie (Debian 13) or jammy (Ubuntu 22.04,
 #                 Gradescope's image: Python 3.10, OpenEXR 2.5; main and universe,
@@ -19,6 +19,12 @@
 #                 results.json is checked against Gradescope's format
 #                 (tools/gradescope_results.py): the solution full marks, the starter
 #                 at most 10%
+#   --caches      keep the root's caches between checks, as a learner's machine keeps
+#                 them between runs: its ~/.cache (pip's wheels, the compiler cache,
+#                 Mesa's shader cache, the course's reference cache) and apt's
+#                 downloaded packages, in COURSE_FRESH_CACHE/SUITE-*. Nothing installed
+#                 is kept: every package is installed and every tree built again. CI
+#                 uses it; a first run on a new machine is the same check without it.
 #   --keep        leave the root in place afterwards (to look inside)
 #
 # Prints each command's time, and ends with one line per command: "fresh SUITE: ...".
@@ -35,11 +41,13 @@ SUITE="$1"; shift
 CHAPTER=""
 GRADESCOPE=""
 KEEP=0
+CACHES=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --chapter) CHAPTER="${2:?--chapter needs a chapter number}"; shift 2 ;;
     --gradescope) GRADESCOPE="${2:?--gradescope needs a chapter number}"; shift 2 ;;
     --keep) KEEP=1; shift ;;
+    --caches) CACHES=1; shift ;;
     *) usage ;;
   esac
 done
@@ -169,6 +177,22 @@ for mount in proc sys dev dev/pts dev/shm; do
   esac
   MOUNTS+=("$ROOTFS/$mount")
 done
+
+if [ "$CACHES" = 1 ]; then
+  for kept in "root/.cache:$CACHE/$SUITE-home-cache" \
+              "var/cache/apt/archives:$CACHE/$SUITE-apt-archives"; do
+    inside="$ROOTFS/${kept%%:*}"
+    outside="${kept#*:}"
+    mkdir -p "$inside" "$outside"
+    chmod 0700 "$outside"
+    mount --bind "$outside" "$inside"
+    MOUNTS+=("$inside")
+  done
+  # Debian's apt removes what it downloaded after installing it, unless told to keep it.
+  echo 'Binary::apt::APT::Keep-Downloaded-Packages "true";' \
+    >"$ROOTFS/etc/apt/apt.conf.d/10keep-downloads"
+  echo "fresh_machine: caches kept in $CACHE/$SUITE-home-cache and -apt-archives" >&2
+fi
 
 in_root() {
   chroot "$ROOTFS" /usr/bin/env -i "${PASS_ENV[@]}" /bin/bash -c "cd /root/course && $1"

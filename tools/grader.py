@@ -28,6 +28,7 @@ import shutil
 import signal
 import stat
 import subprocess
+import tempfile
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -507,7 +508,8 @@ def reference_image(root: Path, build: Path, chapter: str, test: GradeTest) -> P
     digest = hashlib.sha256("\0".join(test.args).encode()).hexdigest()[:10]
     path = folder / f"{test.slug}-{digest}.png"
     if not path.exists():
-        render_reference(root, build, chapter, test.args, path, timeout=600)
+        render_reference(root, build, chapter, test.args, path, timeout=600,
+                         inputs=test.inputs)
     return path
 
 
@@ -556,11 +558,12 @@ def reference_maker(root: Path, build: Path, chapter: str) -> str:
 
 
 def render_reference(root: Path, build: Path, chapter: str, arguments: list[str],
-                     path: Path, timeout: float):
+                     path: Path, timeout: float, inputs: tuple[str, ...] = ()):
     """Renders the solution's picture for `arguments` into path, or copies it from the
     per-user reference cache (tools/reference_cache.py) when the same sources, assets,
-    compiler and GL made it before. A name of its own, then a rename: two graders may
-    render the same one at once."""
+    compiler and GL made it before. The program runs in a folder of its own holding
+    the test's input files. A name of its own, then a rename: two graders may render
+    the same one at once."""
     program = build / "bin" / chapter
     if not program.exists():
         raise FileNotFoundError(f"no reference {path.name} and no {program} to render "
@@ -576,8 +579,11 @@ def render_reference(root: Path, build: Path, chapter: str, arguments: list[str]
             write_new(partial, kept, 0o600)
             partial.replace(path)
             return
-    subprocess.run([str(program), "--headless", *arguments, "--out", str(partial)],
-                   check=True, capture_output=True, timeout=timeout)
+    with tempfile.TemporaryDirectory(prefix="course-reference-") as folder:
+        for input_name in inputs:
+            shutil.copyfile(build / "assets" / input_name, Path(folder) / Path(input_name).name)
+        subprocess.run([str(program), "--headless", *arguments, "--out", str(partial)],
+                       check=True, capture_output=True, timeout=timeout, cwd=folder)
     if name is not None:
         reference_cache.store(name, partial.read_bytes())
     partial.replace(path)
@@ -598,7 +604,8 @@ def statistical_references(root: Path, build: Path, chapter: str,
         digest = hashlib.sha256("\0".join(arguments).encode()).hexdigest()[:16]
         path = build / "grading" / chapter / f"{test.slug}-{digest}.pfm"
         if not path.exists():
-            render_reference(root, build, chapter, arguments, path, timeout=1800)
+            render_reference(root, build, chapter, arguments, path, timeout=1800,
+                             inputs=test.inputs)
         paths.append(path)
     return paths
 
@@ -629,11 +636,22 @@ def is_prepared(build: Path, chapter: str) -> bool:
     return (build / "grading" / chapter / "prepared").exists()
 
 
+def copy_inputs(build: Path, test: GradeTest, folder: Path):
+    """The test's input files (GradeTest.inputs), copied into the folder a program runs
+    in, readable by the submission's user."""
+    for name in test.inputs:
+        target = folder / Path(name).name
+        if not target.exists():
+            shutil.copyfile(build / "assets" / name, target)
+            os.chmod(target, 0o644)
+
+
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
                workdir: Path, report_dir: Path, extra_args: list[str]) -> Outcome:
     """Runs the submission with the test's arguments plus extra_args (its shader folder);
     the reference is the solution's, with the test's arguments alone."""
     outcome = Outcome(test)
+    copy_inputs(build, test, workdir)
     if test.kind == "check":
         code, output = run_limited([str(program), *test.args, *extra_args], workdir)
         passed = code == 0 and test.expect in output

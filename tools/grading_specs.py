@@ -41,6 +41,10 @@ class GradeTest:
     visibility: str = "visible"
     expect: str = ""
     sampling: Sampling | None = None  # kind 'statistical' only
+    # Files the arguments name, from the build's generated assets (build/assets): the
+    # grader puts a copy of each in the folder the program runs in, the submission's
+    # and the reference's alike, so that `--obj gem_octahedron.obj` finds it there.
+    inputs: tuple[str, ...] = ()
 
     @property
     def slug(self) -> str:
@@ -60,10 +64,16 @@ PLATES = ["--scene", "glossy_plates"]  # assets/scenes: four rough metals, four 
 # below an exact reference's. (At 4 times, 11%: a wrong chapter-15 variant, Smith's
 # Lambda with alpha for alpha squared, then passed; measured 2026-12-02.) The other
 # pictures' references take 4 times: their wrong variants still fail, and references are
-# most of the time a chapter's first grading takes. Chapter 09 traces every triangle for
-# every ray, so it takes fewer samples.
+# most of the time a chapter's first grading takes.
 PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=1024)
-TEAPOT_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
+# Chapter 09 traces every triangle for every ray: its anti-aliased picture is of the
+# build's octahedral gem (8 triangles; the teapot has 552, and took 40 times as long),
+# framed as the teapot is, whose silhouette, facets and shadow edges slope every way a
+# wrong jitter shows on. Cheap, it takes the path tracers' samples: more than the
+# teapot's 8 x 32 (its wrong variants fail by a wider margin, book/docs/instructors.md).
+GEM = ["--obj", "gem_octahedron.obj"]
+GEM_INPUTS = ("meshes/gem_octahedron.obj",)
+GEM_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=1024)
 PREVIEW_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
 # Chapter 13's picture tells a right tree from a wrong one by whole missing triangles:
 # few samples do, and a submission whose box test enters every box stays bearable.
@@ -131,7 +141,7 @@ SPECS: dict[str, list[GradeTest]] = {
     # of GPU Gems 3, bit for bit as python_prototypes/rng.py, so the first number of each
     # pixel (--view noise) must be the solution's exactly, at a fixed seed. (Another
     # good generator is another lesson: it loses these five points, by design.) What the
-    # numbers are used for is random: the anti-aliased teapot averages rays through
+    # numbers are used for is random: the anti-aliased picture averages rays through
     # random points of each pixel, and any uniform point is right (the two numbers in
     # either order, shifted and wrapped), so it is graded by statistics. The two halves
     # weigh the same, so that a wrong generator and a wrong jitter each lose half.
@@ -142,10 +152,11 @@ SPECS: dict[str, list[GradeTest]] = {
                   [*SMALL, "--view", "noise", "--seed", "3"]),
         GradeTest("first random numbers, naive seeding", 2,
                   [*SMALL, "--view", "noise", "--seeding", "naive", "--seed", "3"]),
-        GradeTest("anti-aliased teapot", 3, ["--width", "32", "--height", "32"],
-                  "statistical", sampling=TEAPOT_SAMPLING),
-        GradeTest("anti-aliased teapot, wider picture", 2, ["--width", "48", "--height", "24"],
-                  "statistical", "after_due_date", sampling=TEAPOT_SAMPLING),
+        GradeTest("anti-aliased gem", 3, ["--width", "32", "--height", "32", *GEM],
+                  "statistical", sampling=GEM_SAMPLING, inputs=GEM_INPUTS),
+        GradeTest("anti-aliased gem, wider picture", 2,
+                  ["--width", "48", "--height", "24", *GEM], "statistical",
+                  "after_due_date", sampling=GEM_SAMPLING, inputs=GEM_INPUTS),
     ],
     # Chapter 10: the preview is random too (a random point in each pixel, ambient
     # occlusion by random rays): graded by expectation. Surfaces alone (no occlusion

@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
 
         // 5. Render --spp samples; then headless: write the image (and --dump-random);
         //    --window: add one sample per frame, and start over after a hot reload.
-        session.timeRender(render);
+        session.timeRender(render, samples);
         session.stats().set("samples_per_pixel", double(samples));
         if (!dumpPath.empty()) dumpRandomNumbers(session, width, height, count, dumpPath);
         session.finish(image, render, [&](int) { addSample(); });

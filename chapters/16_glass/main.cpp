@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
 
         // 4. Render --spp samples; headless, write the image (PFM: the linear mean;
         //    PNG: clamped to [0, 1] and sRGB-encoded).
-        session.timeRender(render);
+        session.timeRender(render, samples);
 
         // --8<-- [start:window]
         // 5. Window: one more sample each frame; moving the camera starts over.

@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:display]
 
         // 5. Render --spp samples; headless, write the image.
-        session.timeRender(render);
+        session.timeRender(render, samples);
 
         // --8<-- [start:window]
         // 6. Window: one more sample each frame; moving the camera starts over; - and =

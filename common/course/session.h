@@ -55,6 +55,9 @@ public:
     // Runs `render`, waits for the GPU, and records wall_ms and gpu_ms; a step of it
     // that never finishes ends the program (course/gpu_watchdog.h).
     void timeRender(const std::function<void()>& render);
+    // The same for a render that adds --spp samples and counts them in `samplesDone`:
+    // on a terminal, a long render shows its progress (course/render_progress.h).
+    void timeRender(const std::function<void()>& render, const unsigned& samplesDone);
 
     // The end of a render. Headless: writes the image to --out (default
     // <chapter>.png) and prints its path. Window: shows it until Esc, the close button,

@@ -4,7 +4,8 @@ As the checks run it says on stderr where they are: checks done of how many, the
 at hand, the time so far and the time left, expected from the last run's durations
 (build/test-artifacts/check-durations.json, updated at the end of each run that ran more
 than a handful of checks). ./course test prints this run's slowest checks
-(check-durations-this-run.json), so that drift shows in every log. Quiet when pytest runs a single check."""
+(check-durations-this-run.json), so that drift shows in every log. Quiet when pytest
+runs a single check."""
 
 from __future__ import annotations
 
@@ -21,6 +22,11 @@ DURATIONS = ARTIFACTS / "check-durations.json"  # every check's last time: the e
 THIS_RUN = ARTIFACTS / "check-durations-this-run.json"  # this run's checks alone
 EVERY_SECONDS = 30.0  # at most one progress line this often
 SMALLEST_RUN_KEPT = 20  # a run of fewer checks leaves the last estimate as it was
+
+
+def check_name(nodeid: str) -> str:
+    """A check's id without the "@group" pytest-xdist adds to it under --dist loadgroup."""
+    return nodeid.split("@", 1)[0]
 
 
 def minutes(seconds: float) -> str:
@@ -45,19 +51,20 @@ class SuiteClock:
         self.done: set[str] = set()
 
     def pytest_collection_finish(self, session):
-        self.items = [item.nodeid for item in session.items]
+        self.items = [check_name(item.nodeid) for item in session.items]
 
     @pytest.hookimpl(optionalhook=True)
     def pytest_xdist_node_collection_finished(self, node, ids):
         """Spread over workers (pytest-xdist), the controller collects nothing itself:
         each worker says what it collected (all the same checks)."""
-        self.items = list(ids)
+        self.items = [check_name(i) for i in ids]
 
     def pytest_runtest_logreport(self, report):
-        self.seconds[report.nodeid] = self.seconds.get(report.nodeid, 0.0) + report.duration
+        name = check_name(report.nodeid)
+        self.seconds[name] = self.seconds.get(name, 0.0) + report.duration
         if report.when != "teardown":
             return
-        self.done.add(report.nodeid)
+        self.done.add(name)
         now = time.monotonic()
         if len(self.items) > 1 and now - self.last_said >= EVERY_SECONDS:
             self.last_said = now
