@@ -42,7 +42,8 @@ def read_durations(path: Path = DURATIONS) -> dict[str, float]:
 
 
 class SuiteClock:
-    def __init__(self):
+    def __init__(self, workers: int = 1):
+        self.workers = max(1, workers)  # pytest-xdist's: the checks left share them
         self.started = time.monotonic()
         self.last_said = self.started
         self.expected = read_durations()
@@ -75,7 +76,8 @@ class SuiteClock:
             return None
         known = [self.expected[n] for n in self.items if n in self.expected]
         typical = sorted(known)[len(known) // 2] if known else 0.0
-        return sum(self.expected.get(n, typical) for n in self.items if n not in self.done)
+        left = sum(self.expected.get(n, typical) for n in self.items if n not in self.done)
+        return left / self.workers
 
     def say(self, where: str, now: float):
         left = self.time_left()
@@ -101,4 +103,7 @@ def write_json(path: Path, value: dict):
 def pytest_configure(config):
     if hasattr(config, "workerinput"):
         return  # a pytest-xdist worker: the controller keeps the clock
-    config.pluginmanager.register(SuiteClock(), "suite_clock_instance")
+    workers = config.getoption("numprocesses", None) if config.pluginmanager.hasplugin(
+        "xdist") else None
+    config.pluginmanager.register(SuiteClock(workers if isinstance(workers, int) else 1),
+                                  "suite_clock_instance")
