@@ -184,7 +184,9 @@ if [ "$CACHES" = 1 ]; then
     inside="$ROOTFS/${kept%%:*}"
     outside="${kept#*:}"
     mkdir -p "$inside" "$outside"
-    chmod 0700 "$outside"
+    # The home cache holds references only its user may read; apt's downloads are
+    # fetched by the _apt user.
+    case "$inside" in *root/.cache) chmod 0700 "$outside" ;; *) chmod 0755 "$outside" ;; esac
     mount --bind "$outside" "$inside"
     MOUNTS+=("$inside")
   done

@@ -62,10 +62,10 @@ class SuiteParts:
         """The table: each part's time and share, the total against the budget, then the
         `count` slowest checks. A whole run's parts are kept for the next estimate."""
         total = time.monotonic() - self.started
-        lines = ["", "where the time went:", f"  {'part':34} {'time':>7} {'share':>6}"]
+        lines = ["", "where the time went:", f"  {'part':42} {'time':>7} {'share':>6}"]
         for name, seconds in self.seconds.items():
-            lines.append(f"  {name:34} {minutes(seconds):>7} {seconds / total:6.0%}")
-        lines.append(f"  {'in all':34} {minutes(total):>7}"
+            lines.append(f"  {name:42} {minutes(seconds):>7} {seconds / total:6.0%}")
+        lines.append(f"  {'in all':42} {minutes(total):>7}"
                      + (f"   (budget {minutes(BUDGET_SECONDS)} on 2 cores)" if whole else ""))
         if slowest_checks:
             lines += ["", f"the {count} slowest checks (setup, call and teardown):"]
