@@ -15,6 +15,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -271,9 +272,10 @@ def cmd_test(args):
 
 def spread_over_cores() -> list[str]:
     """pytest-xdist's options: one worker per core (at most 8), each taking whole groups
-    of checks (tests/python/conftest.py's work_group and its scheduler). Renders keep every core busy on
-    their own, but much of the suite does not: compiling shaders, starting programs,
-    numpy references, the grader's sandbox. COURSE_TEST_WORKERS=1 runs in one process."""
+    of checks (tests/python/conftest.py's work_group and its scheduler). Renders keep
+    every core busy on their own, but much of the suite does not: compiling shaders,
+    starting programs, numpy references, the grader's sandbox. COURSE_TEST_WORKERS=1
+    runs in one process."""
     workers = int(os.environ.get("COURSE_TEST_WORKERS", 0)) or min(os.cpu_count() or 1, 8)
     try:
         import xdist  # noqa: F401
@@ -335,7 +337,6 @@ def sanitized_chapter_runs() -> tuple[int, int]:
                                            timeout=600, env=sanitizer_environment())
         # One at a time per core: a tiny render's time goes to starting the program and
         # compiling its shaders, on one core each.
-        from concurrent.futures import ThreadPoolExecutor
         with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
             runs = list(pool.map(run, chapters()))
         for command, result in runs:
@@ -433,7 +434,6 @@ def run_fuzzing(target_filter: str | None, seconds: int) -> dict[str, dict]:
                    f"{len(found)} crashes")
         return entry, report
 
-    from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
         outcomes = list(pool.map(fuzz, targets))
     summary = {}

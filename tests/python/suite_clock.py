@@ -24,11 +24,6 @@ EVERY_SECONDS = 30.0  # at most one progress line this often
 SMALLEST_RUN_KEPT = 20  # a run of fewer checks leaves the last estimate as it was
 
 
-def check_name(nodeid: str) -> str:
-    """A check's id without the "@group" pytest-xdist adds to it under --dist loadgroup."""
-    return nodeid.split("@", 1)[0]
-
-
 def minutes(seconds: float) -> str:
     seconds = max(0, int(round(seconds)))
     return f"{seconds // 60}:{seconds % 60:02d}"
@@ -52,16 +47,16 @@ class SuiteClock:
         self.done: set[str] = set()
 
     def pytest_collection_finish(self, session):
-        self.items = [check_name(item.nodeid) for item in session.items]
+        self.items = [item.nodeid for item in session.items]
 
     @pytest.hookimpl(optionalhook=True)
     def pytest_xdist_node_collection_finished(self, node, ids):
         """Spread over workers (pytest-xdist), the controller collects nothing itself:
         each worker says what it collected (all the same checks)."""
-        self.items = [check_name(i) for i in ids]
+        self.items = list(ids)
 
     def pytest_runtest_logreport(self, report):
-        name = check_name(report.nodeid)
+        name = report.nodeid
         self.seconds[name] = self.seconds.get(name, 0.0) + report.duration
         if report.when != "teardown":
             return
