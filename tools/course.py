@@ -660,6 +660,9 @@ def cmd_grade(args):
             f"(./course grade {name[:2]} --prepare, before the sources are removed)", code=2)
     else:  # an autograder image: the solution's sources were removed after --prepare
         say(f"grading without chapters/{name}: its references were prepared")
+        if args.keep_runs:
+            die("--keep-runs keys the kept runs by the solution's sources, and "
+                f"chapters/{name} is gone", code=2)
     try:
         if args.prepare:
             for reference in grader.prepare(ROOT, BUILD, name):
@@ -667,12 +670,18 @@ def cmd_grade(args):
         elif args.submissions:
             out = Path(args.out).resolve() if args.out else BUILD / "grades" / folder.name
             summary = grader.grade_class(ROOT, BUILD, name, folder, out, args.jobs,
-                                         args.show_hidden, progress=say)
+                                         args.show_hidden, progress=say,
+                                         keep_runs=args.keep_runs)
             print(summary)
         else:
             out = Path(args.out).resolve() if args.out else BUILD / "grades" / folder.name
-            results = grader.grade(ROOT, BUILD, name, folder, out, args.show_hidden)
+            counts = {}
+            results = grader.grade(ROOT, BUILD, name, folder, out, args.show_hidden,
+                                   keep_runs=args.keep_runs, kept_counts=counts)
             grader.print_table(results)
+            if counts:
+                say(f"runs replayed from an earlier grading of the same files: "
+                    f"{counts['replayed']}, run and kept: {counts['made']}")
             print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
     except sandbox.SandboxError as error:
         if args.submission and not args.prepare:
@@ -822,6 +831,11 @@ def main():
                        "(default: the number of cores)")
     grade.add_argument("--show-hidden", action="store_true",
                        help="include hidden tests' details in the report")
+    grade.add_argument("--keep-runs", action="store_true",
+                       help="replay the runs of a submission graded before with the same "
+                       "files, solution, build and GL (kept in the reference cache) "
+                       "instead of running them again: for regrading after the points "
+                       "change, and for the course's own suite")
 
     autograder = verbs.add_parser("autograder", help="build a Gradescope autograder zip")
     autograder.add_argument("chapter")

@@ -646,14 +646,72 @@ def copy_inputs(build: Path, test: GradeTest, folder: Path):
             os.chmod(target, 0o644)
 
 
+class KeptRuns:
+    """A submission's successful runs, kept and replayed when nothing that makes them
+    has changed: for the course's own suite, which grades the same catalogue variants
+    and starters on every run (tests/python/test_grading_statistics.py), and for an
+    instructor regrading a class after changing the points (--keep-runs).
+
+    A run's file and printed text are kept in the per-user reference cache
+    (tools/reference_cache.py) under a key made of reference_maker's (the solution's
+    tree, the common layer, the build files, assets, compiler and flags, the GL that
+    renders and Mesa's settings), the submission's own files as graded and the run's
+    arguments: a program with the same sources run the same way on the same GL writes
+    the same file (the grader's references rest on the same fact). A run that failed
+    is never kept, so it is run again; the grading's statistics always run anew."""
+
+    def __init__(self, root: Path, build: Path, chapter: str, source: Path):
+        self.prefix = reference_cache.key(
+            "submission run", reference_maker(root, build, chapter),
+            reference_cache.tree_digest(source / "chapters" / chapter,
+                                        source / "shaders" / chapter))
+        self.replayed = 0
+        self.made = 0
+
+    def run(self, arguments: list[str], out: Path | None, runner):
+        """runner() runs the program for real (writing out, if any); returns (exit
+        code, output) as run_limited does, from the cache when this run was kept."""
+        name = reference_cache.key(self.prefix, *arguments,
+                                   out.suffix if out is not None else "") + ".run"
+        kept = reference_cache.fetch(name)
+        if kept is not None:
+            length = int.from_bytes(kept[:8], "little")
+            output, data = kept[8:8 + length].decode(), kept[8 + length:]
+            if out is not None:
+                if out.exists() or out.is_symlink():
+                    out.unlink()
+                write_new(out, data)
+            self.replayed += 1
+            return 0, output
+        code, output = runner()
+        data = b""
+        if code == 0 and out is not None:
+            data, _ = submitted_file(out)
+        if code == 0 and data is not None:
+            text = output.encode()
+            reference_cache.store(name, len(text).to_bytes(8, "little") + text + data)
+            self.made += 1
+        return code, output
+
+
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
-               workdir: Path, report_dir: Path, extra_args: list[str]) -> Outcome:
+               workdir: Path, report_dir: Path, extra_args: list[str],
+               kept: KeptRuns | None = None) -> Outcome:
     """Runs the submission with the test's arguments plus extra_args (its shader folder);
-    the reference is the solution's, with the test's arguments alone."""
+    the reference is the solution's, with the test's arguments alone. With kept, runs
+    whose inputs have not changed since they were kept are replayed."""
     outcome = Outcome(test)
     copy_inputs(build, test, workdir)
+
+    def run(arguments: list[str], out: Path | None = None):
+        command = [str(program), *arguments, *extra_args,
+                   *(["--out", str(out)] if out is not None else [])]
+        if kept is None:
+            return run_limited(command, workdir)
+        return kept.run(arguments, out, lambda: run_limited(command, workdir))
+
     if test.kind == "check":
-        code, output = run_limited([str(program), *test.args, *extra_args], workdir)
+        code, output = run(test.args)
         passed = code == 0 and test.expect in output
         outcome.score = test.max_score if passed else 0.0
         outcome.output = (("passed" if passed else f"failed: {describe_exit(code, output)}") +
@@ -666,15 +724,12 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
         import grading_statistics
         return grading_statistics.grade_test(
             test, outcome, workdir, report_dir,
-            run=lambda arguments, out: run_limited(
-                [str(program), "--headless", *arguments, *extra_args, "--out", str(out)],
-                workdir),
+            run=lambda arguments, out: run(["--headless", *arguments], out),
             references=lambda: statistical_references(root, build, chapter, test),
             describe=describe_exit)
 
     out = workdir / f"{test.slug}.png"
-    code, output = run_limited([str(program), "--headless", *test.args, *extra_args,
-                                "--out", str(out)], workdir)
+    code, output = run(["--headless", *test.args], out)
     # Read once, safely (no link followed), after every process of the run is gone.
     png, problem = submitted_file(out) if code == 0 else (None, "")
     if png is None:
@@ -721,10 +776,13 @@ def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
 
 
 def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
-          show_hidden: bool = False, hide=(), close=()) -> dict:
+          show_hidden: bool = False, hide=(), close=(), keep_runs: bool = False,
+          kept_counts: dict | None = None) -> dict:
     """Grades one submission into out (results.json, report.md, images). hide, close:
     more folders the submission must not see (a class's other submissions and
-    results), covered in its mount namespace and closed to other users."""
+    results), covered in its mount namespace and closed to other users. keep_runs:
+    replay the submission's runs kept from an earlier grading of the same files
+    (KeptRuns); kept_counts, if given, gets how many were replayed and made."""
     tests = SPECS[chapter[:2]]
     out.mkdir(parents=True, exist_ok=True)
     prepare_references(root, build, chapter)  # as this user, before any student code
@@ -745,6 +803,7 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
             raise sandbox.SandboxError("refusing to grade: the submission's user could "
                                        "reach what it must not:\n  " + "\n  ".join(problems))
         program, build_log = compile_submission(root, build, chapter, source, workdir)
+        kept = KeptRuns(root, build, chapter, source) if keep_runs else None
         outcomes = []
         for test in tests:
             if program is None:
@@ -754,9 +813,11 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
             # The submission's shaders, not the solution's (but not for the reference):
             shader_args = ["--shader-dir", str(source / "shaders" / chapter)]
             outcomes.append(grade_test(root, build, chapter, program, test, workdir, out,
-                                       shader_args))
+                                       shader_args, kept))
         protections = box.protections() + [f"NOT kept from the submission: {p}"
                                            for p in problems]
+    if kept is not None and kept_counts is not None:
+        kept_counts.update(replayed=kept.replayed, made=kept.made)
     results = {
         "score": round(sum(o.score for o in outcomes), 2),
         "output": f"chapter {chapter}" + (f"\n{notes}" if notes else ""),
@@ -796,7 +857,8 @@ def summary_notes(results: dict) -> str:
 
 
 def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: Path,
-                jobs: int | None = None, show_hidden: bool = False, progress=print) -> Path:
+                jobs: int | None = None, show_hidden: bool = False, progress=print,
+                keep_runs: bool = False) -> Path:
     """./course grade NN --submissions DIR: every folder in DIR is one student's
     submission, graded as many at once as there are cores (each in a sandbox of its
     own, with a user of its own). Writes OUT/<student>/results.json and report.md, and
@@ -814,7 +876,8 @@ def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: P
         started = time.monotonic()
         try:
             results = grade(root, build, chapter, folder, target, show_hidden,
-                            hide=[submissions, out], close=[submissions, out])
+                            hide=[submissions, out], close=[submissions, out],
+                            keep_runs=keep_runs)
         except Exception as error:  # noqa: BLE001 - one student's problem, not the class's
             results = failed_results(chapter, f"the grader could not grade this "
                                               f"submission: {error}")

@@ -279,14 +279,19 @@ def test_the_catalogues_cover_every_statistical_chapter():
     assert len(grading_variants.CATALOGUE["12"]) >= 12
 
 
-def grade_variant(variant, folder: Path) -> tuple[dict, float]:
+def grade_variant(variant, folder: Path) -> tuple[dict, float, dict]:
+    """Grades a variant as a student's submission. Its runs are kept (grader.KeptRuns):
+    a variant whose files, solution, build and GL are those of an earlier suite run is
+    not rendered again, but its pictures are graded anew."""
     started = time.monotonic()
     submission = grading_variants.apply(variant, ROOT, folder / "submission")
-    results = grader.grade(ROOT, BUILD, variant.chapter, submission, folder / "graded")
-    return results, time.monotonic() - started
+    counts = {}
+    results = grader.grade(ROOT, BUILD, variant.chapter, submission, folder / "graded",
+                           keep_runs=True, kept_counts=counts)
+    return results, time.monotonic() - started, counts
 
 
-GRADED: dict[str, dict] = {}  # chapter -> {variant: (results, seconds)}, in this process
+GRADED: dict[str, dict] = {}  # chapter -> {variant: (results, seconds, kept runs)}
 
 
 @pytest.fixture
@@ -314,9 +319,12 @@ def catalogue_results(request, tmp_path_factory):
 def write_summary(chapter: str, graded: dict, seconds: float):
     """One file per chapter: each variant's share of the points, each test's score."""
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    replayed = sum(counts.get("replayed", 0) for _, _, counts in graded.values())
+    made = sum(counts.get("made", 0) for _, _, counts in graded.values())
     lines = [f"chapter {chapter}: {len(graded)} variants graded in {seconds:.0f} s "
-             f"(two at a time)"]
-    for variant, (results, elapsed) in graded.items():
+             f"(two at a time; runs replayed from an earlier suite run: {replayed}, "
+             f"run anew: {made})"]
+    for variant, (results, elapsed, _) in graded.items():
         total = sum(t["max_score"] for t in results["tests"])
         lines.append(f"{'correct' if variant.correct else 'wrong  '} "
                      f"{results['score'] / total:6.0%}  {elapsed:5.0f} s  {variant.name}")
@@ -331,7 +339,7 @@ def write_summary(chapter: str, graded: dict, seconds: float):
 def test_catalogue_variant(variant, catalogue_results):
     """The solution itself: full marks. Correct but different: at least 90%. Plausibly
     wrong: at most half."""
-    results, _ = catalogue_results[variant]
+    results, _, _ = catalogue_results[variant]
     total = sum(t["max_score"] for t in results["tests"])
     scores = {t["name"]: (t["score"], t["output"].splitlines()[0]) for t in results["tests"]}
     if not variant.edits:

@@ -176,3 +176,86 @@ def test_a_reference_is_rendered_once_then_kept(tmp_path, cache, monkeypatch):
                             timeout=120)
     assert len(renders) == 3 and (tmp_path / "fourth.png").read_bytes() == first.read_bytes()
     assert entry.read_bytes().endswith(first.read_bytes())  # and kept whole again
+
+
+# ---------------------------------------------------------------- a submission's runs
+
+def submission(tmp_path, name="submission"):
+    folder = tmp_path / name
+    for top in ("chapters", "shaders"):
+        shutil.copytree(ROOT / top / CHAPTER, folder / top / CHAPTER)
+    return folder
+
+
+def replay_or_run(kept, arguments, out, calls, code=0, data=b"PF picture"):
+    """KeptRuns.run with a stand-in for the program: counts the real runs."""
+    def runner():
+        calls.append(arguments)
+        if code == 0:
+            out.write_bytes(data)
+        return code, "printed"
+    return kept.run(arguments, out, runner)
+
+
+def test_a_kept_run_is_replayed_only_while_its_inputs_are_the_same(tmp_path, cache):
+    calls = []
+    source = submission(tmp_path)
+    kept = grader.KeptRuns(ROOT, BUILD, CHAPTER, source)
+    first = tmp_path / "first.pfm"
+    assert replay_or_run(kept, ARGUMENTS, first, calls) == (0, "printed")
+    again = tmp_path / "again.pfm"
+    assert replay_or_run(grader.KeptRuns(ROOT, BUILD, CHAPTER, source), ARGUMENTS, again,
+                         calls, data=b"not this") == (0, "printed")
+    assert len(calls) == 1 and again.read_bytes() == b"PF picture"
+    # Other arguments, another output kind, another submission file: run anew.
+    replay_or_run(kept, ARGUMENTS + ["--seed", "2"], tmp_path / "a.pfm", calls)
+    replay_or_run(kept, ARGUMENTS, tmp_path / "a.png", calls)
+    append(source / "shaders" / CHAPTER / "pattern.glsl")
+    replay_or_run(grader.KeptRuns(ROOT, BUILD, CHAPTER, source), ARGUMENTS,
+                  tmp_path / "b.pfm", calls)
+    assert len(calls) == 4
+    # The solution's side (reference_maker's inputs, tested above) is in the key too.
+    tree = tmp_path / "root"
+    for part in (f"chapters/{CHAPTER}", f"shaders/{CHAPTER}", "common", "cmake",
+                 "third_party", "assets"):
+        shutil.copytree(ROOT / part, tree / part)
+    shutil.copyfile(ROOT / "CMakeLists.txt", tree / "CMakeLists.txt")
+    grader._MAKERS.clear()
+    before = grader.KeptRuns(tree, BUILD, CHAPTER, source).prefix
+    append(tree / "common" / "session.cpp")
+    grader._MAKERS.clear()
+    assert grader.KeptRuns(tree, BUILD, CHAPTER, source).prefix != before
+
+
+def test_a_failed_run_is_never_kept_and_a_damaged_one_is_run_again(tmp_path, cache):
+    calls = []
+    kept = grader.KeptRuns(ROOT, BUILD, CHAPTER, submission(tmp_path))
+    out = tmp_path / "out.pfm"
+    assert replay_or_run(kept, ARGUMENTS, out, calls, code=3) == (3, "printed")
+    assert replay_or_run(kept, ARGUMENTS, out, calls, code=None) == (None, "printed")
+    assert len(calls) == 2 and kept.made == 0 and not list(cache.rglob("*.run"))
+    replay_or_run(kept, ARGUMENTS, out, calls)
+    [entry] = cache.rglob("*.run")
+    entry.write_bytes(entry.read_bytes()[:-2])
+    out.unlink()
+    assert replay_or_run(kept, ARGUMENTS, out, calls) == (0, "printed")
+    assert len(calls) == 4 and out.read_bytes() == b"PF picture"
+    assert kept.replayed == 0 and kept.made == 2
+
+
+def test_a_grading_with_kept_runs_scores_as_the_first(tmp_path, cache):
+    """Chapter 02 graded twice with keep_runs: the second replays every run and gives
+    the same results; without keep_runs nothing is kept."""
+    source = submission(tmp_path)
+    first, second = {}, {}
+    results = grader.grade(ROOT, BUILD, CHAPTER, source, tmp_path / "g1", keep_runs=True,
+                           kept_counts=first)
+    again = grader.grade(ROOT, BUILD, CHAPTER, source, tmp_path / "g2", keep_runs=True,
+                         kept_counts=second)
+    runs = len(grader.SPECS[CHAPTER[:2]])
+    assert first == {"replayed": 0, "made": runs} and second == {"replayed": runs, "made": 0}
+    assert [t["score"] for t in again["tests"]] == [t["score"] for t in results["tests"]]
+    assert again["score"] == sum(t["max_score"] for t in again["tests"])
+    kept_before = sorted(cache.rglob("*.run"))
+    grader.grade(ROOT, BUILD, CHAPTER, source, tmp_path / "g3")
+    assert sorted(cache.rglob("*.run")) == kept_before
