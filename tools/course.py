@@ -504,19 +504,49 @@ def figure_programs(rows) -> list[str]:
                    if not program.startswith("python_prototypes/")})
 
 
+def figure_key(program: str, arguments: list[str]) -> str:
+    """What makes a figure, as a reference cache key (tools/reference_cache.py): for a
+    chapter, what makes its grading references (grader.reference_maker: its sources,
+    the common layer, build files, assets, compiler, GL and Mesa's settings); for a
+    prototype, the prototypes and the Python, numpy and matplotlib that draw it; for
+    both, the test data figures may name, and the arguments."""
+    import reference_cache
+    if program.startswith("python_prototypes/"):
+        import importlib.metadata
+        versions = [importlib.metadata.version(p) for p in ("numpy", "matplotlib")]
+        maker = reference_cache.key("prototype figure", reference_cache.tree_digest(
+            ROOT / "python_prototypes", BUILD / "assets"), sys.version, *versions)
+    else:
+        import grader
+        maker = grader.reference_maker(ROOT, BUILD, find_chapter(program))
+    return reference_cache.key("book figure", maker, reference_cache.tree_digest(
+        ROOT / "tests" / "data"), program, *arguments)
+
+
 def render_figures(rows, out: Path, draft: bool = False):
-    """Renders figures (rows of figure_rows()) into `out`, with the real programs."""
+    """Renders figures (rows of figure_rows()) into `out`, with the real programs. A
+    figure whose program and inputs are unchanged since it was rendered on this machine
+    comes from the reference cache (figure_key)."""
+    import reference_cache
     out.mkdir(parents=True, exist_ok=True)
     for figure, program, arguments in rows:
         if program.startswith("python_prototypes/"):
-            command = [sys.executable, str(ROOT / program), *arguments.split(), "--figure",
+            options = arguments.split()
+            command = [sys.executable, str(ROOT / program), *options, "--figure",
                        str(out / figure)]
         else:
             options = arguments.split()
+            options = draft_arguments(options) if draft else options
             command = [str(binary(find_chapter(program))), "--headless", "--out",
-                       str(out / figure), *(draft_arguments(options) if draft else options)]
+                       str(out / figure), *options]
+        name = figure_key(program, options) + Path(figure).suffix
+        kept = reference_cache.fetch(name)
+        if kept is not None:
+            (out / figure).write_bytes(kept)
+            continue
         say(f"figure {figure}")
         run_checked(command, cwd=ROOT, stdout=subprocess.DEVNULL)
+        reference_cache.store(name, (out / figure).read_bytes())
 
 
 def render_book_figures(draft: bool = False):
