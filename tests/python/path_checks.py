@@ -24,9 +24,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, copy_shaders, read_pfm, regions_agreeing, run_chapter
+from conftest import ROOT, chapter_name, copy_shaders, read_pfm, regions_agreeing, run_chapter
 
 sys.path.insert(0, str(ROOT / "tools"))
+import grader  # noqa: E402
 import reference_cache  # noqa: E402
 
 SCENES = ROOT / "tests" / "data" / "scenes"
@@ -35,11 +36,44 @@ BSDF_PROBE = ROOT / "build" / "tests" / "bsdf_probe"
 
 
 def path_trace(chapter: str, tmp_path, name: str, *args) -> np.ndarray:
-    """Renders with the chapter to a PFM (linear) and returns it (height, width, 3)."""
+    """Renders with the chapter to a PFM (linear) and returns it (height, width, 3). A
+    render whose program and inputs are those of one made before on this machine comes
+    from the reference cache (kept_render_key)."""
     out = tmp_path / f"{name}.pfm"
-    result = run_chapter(chapter, "--headless", "--out", out, *map(str, args))
-    assert result.returncode == 0, result.stderr
+    arguments = [str(a) for a in args]
+    name = kept_render_key(chapter, arguments, out)
+    kept = reference_cache.fetch(name)
+    if kept is not None:
+        out.write_bytes(kept)
+    else:
+        result = run_chapter(chapter, "--headless", "--out", out, *arguments)
+        assert result.returncode == 0, result.stderr
+        reference_cache.store(name, out.read_bytes())
     return read_pfm(out)[..., :3]
+
+
+def kept_render_key(chapter: str, arguments: list[str], out: Path) -> str:
+    """Everything that makes a chapter's render: what makes its grading references
+    (grader.reference_maker: its sources and shaders, the common layer, the build files,
+    the assets, the compiler, the GL and Mesa's settings), the test data, and the
+    arguments, where a file or folder an argument names counts by its contents (a
+    --shader-dir with a planted bug, a scene written by the test), a file with the
+    other files beside it (the meshes and textures a scene names), but never the
+    output."""
+    parts = [grader.reference_maker(ROOT, ROOT / "build", chapter_name(chapter)),
+             reference_cache.tree_digest(ROOT / "tests" / "data")]
+    for argument in arguments:
+        path = Path(argument)
+        if path.is_dir():
+            parts += ["folder", reference_cache.tree_digest(path)]
+        elif path.is_file():
+            parts += ["file", path.suffix, reference_cache.file_digest(path)]
+            parts += [f"beside {p.name} {reference_cache.file_digest(p)}"
+                      for p in sorted(path.parent.iterdir())
+                      if p.is_file() and p != path and p != out]
+        else:
+            parts.append(argument)
+    return reference_cache.key("chapter render", *parts) + ".pfm"
 
 
 def mean_and_error(values: np.ndarray):

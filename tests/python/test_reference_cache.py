@@ -259,3 +259,38 @@ def test_a_grading_with_kept_runs_scores_as_the_first(tmp_path, cache):
     kept_before = sorted(cache.rglob("*.run"))
     grader.grade(ROOT, BUILD, CHAPTER, source, tmp_path / "g3")
     assert sorted(cache.rglob("*.run")) == kept_before
+
+
+# ---------------------------------------------------------------- the checks' own renders
+
+def test_a_checks_render_is_keyed_by_what_its_arguments_name(tmp_path):
+    """path_checks.path_trace keeps a chapter's render under kept_render_key: a file or
+    folder an argument names counts by its contents (and a scene by the files beside
+    it), not by where it is; the output never counts."""
+    import path_checks
+    shaders = tmp_path / "one" / "shaders"
+    shutil.copytree(ROOT / "shaders" / "16_glass", shaders)
+    scene = tmp_path / "one" / "room.scene"
+    scene.write_text("camera 0 1 4  0 1 0\n")
+    (tmp_path / "one" / "gem.obj").write_text("v 0 0 0\n")
+    out = tmp_path / "one" / "out.pfm"
+
+    def key(folder=tmp_path / "one"):
+        return path_checks.kept_render_key("16", ["--scene", str(folder / "room.scene"),
+                                                  "--shader-dir", str(folder / "shaders"),
+                                                  "--spp", "4"], folder / "out.pfm")
+    before = key()
+    out.write_bytes(b"an old output")
+    assert key() == before  # the output is not an input
+    shutil.copytree(tmp_path / "one", tmp_path / "two")
+    assert key(tmp_path / "two") == before  # the same contents elsewhere
+    append(shaders / "dielectric.glsl")
+    assert key() != before
+    shutil.rmtree(shaders)
+    shutil.copytree(ROOT / "shaders" / "16_glass", shaders)
+    assert key() == before
+    (tmp_path / "one" / "gem.obj").write_text("v 0 0 1\n")  # a mesh the scene names
+    assert key() != before
+    assert key(tmp_path / "two") == before
+    assert path_checks.kept_render_key("16", ["--spp", "4"], out) != \
+        path_checks.kept_render_key("16", ["--spp", "8"], out)
