@@ -38,11 +38,9 @@ def room_with(tmp_path, mesh_line: str, name: str = "room.scene"):
 
 
 def render(tmp_path, prefix: str, name: str, *args) -> np.ndarray:
-    """Renders to a PFM (linear, exact floats) and returns (height, width, 3)."""
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter(prefix, "--headless", "--out", out, *map(str, args))
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3]
+    """Renders to a PFM (linear, exact floats) and returns (height, width, 3); kept
+    while its inputs are unchanged (path_checks.path_trace)."""
+    return path_checks.path_trace(prefix, tmp_path, name, *args)
 
 
 TEAPOT_552 = "mesh meshes/teapot_552.obj white scale 0.3 rotate_y 30 translate 0 -1 0"
