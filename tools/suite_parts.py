@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import sys
 import time
 from contextlib import contextmanager
@@ -28,6 +29,50 @@ def this_run_durations(artifacts: Path) -> dict[str, float]:
         return json.loads((artifacts / "check-durations-this-run.json").read_text())
     except (OSError, ValueError):
         return {}
+
+
+CHAPTER_SHARE_SECONDS = 60  # a chapter's own checks, ./course test NN once built
+
+# Where a check id names a chapter: its file (test_13_bvh.py), a catalogue variant
+# ([13-correct-...]) or a chapter parameter ([16_glass], [A1_gl33_fragment]).
+CHAPTER_PATTERNS = (re.compile(r"(?:^|/)test_(\d\d|A\d)_"),
+                    re.compile(r"\[(\d\d|A\d)-(?:correct|wrong)-"),
+                    re.compile(r"\[(\d\d|A\d)_[a-z]"))
+
+
+def chapter_of(check: str) -> tuple[str, str] | None:
+    """(chapter, "own" for its test file or "grading" for its gradings, starter and
+    catalogue elsewhere), or None for a check that is no one chapter's."""
+    for number, pattern in enumerate(CHAPTER_PATTERNS):
+        match = pattern.search(check)
+        if match:
+            return match.group(1), "own" if number == 0 else "grading"
+    return None
+
+
+def chapter_shares(durations: dict[str, float]) -> str:
+    """Each chapter's share of the checks' time (summed over the workers): its own
+    checks (test_NN_*.py, what ./course test NN runs) and the rest that names it
+    (gradings, catalogue, starter), against the 60 s a chapter's own checks may take."""
+    shares: dict[str, dict[str, float]] = {}
+    shared = 0.0
+    for check, seconds in durations.items():
+        found = chapter_of(check)
+        if found is None:
+            shared += seconds
+            continue
+        chapter, kind = found
+        shares.setdefault(chapter, {"own": 0.0, "grading": 0.0})[kind] += seconds
+    if not shares:
+        return ""
+    lines = ["", "each chapter's share of the checks' time (over all workers):",
+             f"  {'chapter':8} {'own checks':>10} {'gradings etc.':>14}"]
+    for chapter in sorted(shares):
+        own, grading = shares[chapter]["own"], shares[chapter]["grading"]
+        over = "  over its 60 s" if own > CHAPTER_SHARE_SECONDS else ""
+        lines.append(f"  {chapter:8} {minutes(own):>10} {minutes(grading):>14}{over}")
+    lines.append(f"  {'no one chapter':23} {minutes(shared):>10}")
+    return "\n".join(lines)
 
 
 class SuiteParts:
@@ -71,6 +116,8 @@ class SuiteParts:
             lines += ["", f"the {count} slowest checks (setup, call and teardown):"]
             ranked = sorted(slowest_checks.items(), key=lambda item: -item[1])[:count]
             lines += [f"  {minutes(seconds):>6}  {name}" for name, seconds in ranked]
+            if whole:
+                lines.append(chapter_shares(slowest_checks))
         if whole:
             self.artifacts.mkdir(parents=True, exist_ok=True)
             kept = {"parts": {n: round(s, 1) for n, s in self.seconds.items()},
