@@ -415,8 +415,13 @@ def test_grading_needs_none_of_the_solutions_sources(solution, tmp_path, monkeyp
     monkeypatch.setattr(course, "ROOT", fake)
     monkeypatch.setattr(course, "BUILD", build)
     shutil.copy2(ROOT / "CMakeLists.txt", fake)
-    course.cmd_grade(argparse.Namespace(
-        chapter="04", submission=str(solution), submissions=None, prepare=False,
-        out=str(tmp_path / "graded-by-course"), jobs=None, show_hidden=False))
+    arguments = dict(chapter="04", submission=str(solution), submissions=None,
+                     prepare=False, out=str(tmp_path / "graded-by-course"), jobs=None,
+                     show_hidden=False, keep_runs=False)
+    course.cmd_grade(argparse.Namespace(**arguments))
     again = json.loads((tmp_path / "graded-by-course" / "results.json").read_text())
     assert again["score"] == results["score"]
+    # Kept runs are keyed by the solution's sources, which are gone: a clear refusal.
+    with pytest.raises(SystemExit) as refused:
+        course.cmd_grade(argparse.Namespace(**{**arguments, "keep_runs": True}))
+    assert refused.value.code == 2
