@@ -16,6 +16,7 @@ import dataclasses
 import io
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -66,14 +67,28 @@ def kept_render_key(chapter: str, arguments: list[str], out: Path) -> str:
         path = Path(argument)
         if path.is_dir():
             parts += ["folder", reference_cache.tree_digest(path)]
-        elif path.is_file():
-            parts += ["file", path.suffix, reference_cache.file_digest(path)]
-            parts += [f"beside {p.name} {reference_cache.file_digest(p)}"
+        elif path.is_file() and path.suffix == ".scene":
+            parts += ["scene", scene_contents(path)]
+            parts += [f"beside {p.name} " + (scene_contents(p) if p.suffix == ".scene"
+                                              else reference_cache.file_digest(p))
                       for p in sorted(path.parent.iterdir())
                       if p.is_file() and p != path and p != out]
+        elif path.is_file():
+            parts += ["file", path.suffix, reference_cache.file_digest(path)]
         else:
             parts.append(argument)
     return reference_cache.key("chapter render", *parts) + ".pfm"
+
+
+def scene_contents(path: Path) -> str:
+    """A scene file's text with each absolute path in it (close_up writes its meshes'
+    so) replaced by the digest of the file it names: the same scene in another clone
+    reads the same."""
+    text = path.read_text()
+    for name in sorted(set(re.findall(r"/[^\s\"']+", text)), key=len, reverse=True):
+        if Path(name).is_file():
+            text = text.replace(name, f"<file {reference_cache.file_digest(Path(name))}>")
+    return text
 
 
 def mean_and_error(values: np.ndarray):

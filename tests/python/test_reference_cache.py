@@ -294,3 +294,20 @@ def test_a_checks_render_is_keyed_by_what_its_arguments_name(tmp_path):
     assert key(tmp_path / "two") == before
     assert path_checks.kept_render_key("16", ["--spp", "4"], out) != \
         path_checks.kept_render_key("16", ["--spp", "8"], out)
+
+
+def test_a_scene_naming_its_meshes_by_absolute_path_is_keyed_by_their_contents(tmp_path):
+    """close_up writes its meshes' absolute paths: the same close-up from another clone
+    names other paths to the same bytes, and must be the same render."""
+    import path_checks
+    keys = []
+    for clone, vertex in (("one", "0"), ("two", "0"), ("three", "1")):
+        mesh = tmp_path / clone / "assets" / "gem.obj"
+        mesh.parent.mkdir(parents=True)
+        mesh.write_text(f"v 0 0 {vertex}\n")
+        scene = tmp_path / clone / "scene" / "close_up_gem.scene"
+        scene.parent.mkdir()
+        scene.write_text(f"mesh {mesh} glass\n")
+        keys.append(path_checks.kept_render_key("16", ["--scene", str(scene)],
+                                                scene.parent / "out.pfm"))
+    assert keys[0] == keys[1] != keys[2]
