@@ -582,8 +582,13 @@ def render_reference(root: Path, build: Path, chapter: str, arguments: list[str]
     with tempfile.TemporaryDirectory(prefix="course-reference-") as folder:
         for input_name in inputs:
             shutil.copyfile(build / "assets" / input_name, Path(folder) / Path(input_name).name)
+        # A step's allowance as in the submissions' runs (sandbox.GRADING_GPU_STEP_SECONDS).
+        environment = dict(os.environ)
+        environment.setdefault("COURSE_GPU_TIMEOUT_SECONDS",
+                               str(sandbox.GRADING_GPU_STEP_SECONDS))
         subprocess.run([str(program), "--headless", *arguments, "--out", str(partial)],
-                       check=True, capture_output=True, timeout=timeout, cwd=folder)
+                       check=True, capture_output=True, timeout=timeout, cwd=folder,
+                       env=environment)
     if name is not None:
         reference_cache.store(name, partial.read_bytes())
     partial.replace(path)

@@ -58,6 +58,17 @@ class SandboxError(Exception):
     """The sandbox cannot be set up as promised: grading must not go on."""
 
 
+# The chapters' GPU watchdog (common/gpu_watchdog.h) ends a render whose GPU finishes no
+# step for 30 s. A step's time includes the driver's shader compilation the first time
+# (llvmpipe compiles at the first dispatch: chapter 18's megakernel 5 s on Mesa 22 alone),
+# and a grading runs beside others (a class, or the suite's catalogues two at a time on
+# each core): on Mesa 25 under that load (Debian 13, 2026-12-04), two correct submissions
+# of chapter 18 ended with the GL's exit code 4 in the first run of their first test, the
+# one that compiles the shaders, and in no later run (those read Mesa's shader cache).
+# A grading's runs allow a step 120 s, under the run's wall limit, which guards the rest.
+GRADING_GPU_STEP_SECONDS = 120
+
+
 @dataclass(frozen=True)
 class Limits:
     """Per run. The environment may lower them (the course's own tests of the grader
@@ -406,7 +417,8 @@ class Sandbox:
                # Mesa's shader cache lives in this grading's own folder (emptied for the
                # next submission), so the runs of one grading compile each shader once
                # (measured: a 32x32 chapter-10 run drops from 0.34 s to 0.12 s).
-               "XDG_CACHE_HOME": str(cwd / ".cache"), "MESA_SHADER_CACHE_MAX_SIZE": "64M"}
+               "XDG_CACHE_HOME": str(cwd / ".cache"), "MESA_SHADER_CACHE_MAX_SIZE": "64M",
+               "COURSE_GPU_TIMEOUT_SECONDS": str(GRADING_GPU_STEP_SECONDS)}
         for key in ("MESA_GL_VERSION_OVERRIDE", "LIBGL_ALWAYS_SOFTWARE", "GALLIUM_DRIVER",
                     "LP_NUM_THREADS"):
             if key in os.environ:
