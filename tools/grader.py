@@ -524,7 +524,8 @@ RENDERER_VARIABLES = ("LP_", "GALLIUM_", "MESA_", "LIBGL_", "DRI_", "__GLX_", "E
 def reference_maker(root: Path, build: Path, chapter: str) -> str:
     """A digest of everything besides the arguments that decides the solution's
     pictures: the checkpoint's sources and shaders, the common layer, the build files,
-    the assets (committed and generated), the compiler and its flags, the GL that
+    the assets (committed and generated; a scene as its reader reads it, without its
+    comments: reference_cache.scene_as_read), the compiler and its flags, the GL that
     renders (its renderer and version strings name Mesa and LLVM) and Mesa's settings
     in the environment. None of it is the submission's."""
     remembered = (str(root), str(build), chapter)
@@ -547,7 +548,7 @@ def reference_maker(root: Path, build: Path, chapter: str) -> str:
         reference_cache.tree_digest(root / "chapters" / chapter, root / "shaders" / chapter,
                                     root / "common", root / "cmake", root / "third_party",
                                     root / "CMakeLists.txt", root / "assets",
-                                    build / "assets"),
+                                    build / "assets", scenes_as_read=True),
         version, *(f"{k}={cache.get(k, '')}" for k in sorted(cache)
                    if k.startswith(("CMAKE_BUILD_TYPE", "CMAKE_CXX_FLAGS", "COURSE_"))),
         gl.get("renderer", "unknown renderer"), gl.get("gl_version", "unknown version"),

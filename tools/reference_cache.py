@@ -71,9 +71,24 @@ def file_digest(path: Path) -> str:
     return digest.hexdigest()
 
 
-def tree_digest(*roots: Path) -> str:
+def scene_as_read(data: bytes) -> bytes:
+    """A scene file's bytes as the chapters' scene reader reads them
+    (common/text_file.cpp): each line's comment, from '#' to its end, left out, and the
+    lines kept (their numbers are in messages). A comment makes no picture, so rewording
+    one, as the pages that quote a scene do, keeps what was rendered from it. A comment
+    holding a control byte stays: the reader refuses the whole file for it."""
+    def kept(line: bytes) -> bytes:
+        code, _, comment = line.partition(b"#")
+        controls = any((byte < 0x20 and byte not in (0x09, 0x0D)) or byte == 0x7F
+                       for byte in comment)
+        return line if controls else code
+    return b"\n".join(kept(line) for line in data.split(b"\n"))
+
+
+def tree_digest(*roots: Path, scenes_as_read: bool = False) -> str:
     """SHA-256 of every file under the roots (folders or files): relative names and
-    contents, in sorted order. A missing root counts as empty."""
+    contents, in sorted order. A missing root counts as empty. With scenes_as_read, a
+    .scene file counts as the scene reader reads it (scene_as_read)."""
     digest = hashlib.sha256()
     for root in roots:
         digest.update(b"root\0" + root.name.encode() + b"\0")
@@ -81,7 +96,9 @@ def tree_digest(*roots: Path) -> str:
             [root] if root.is_file() else []
         for path in files:
             name = path.relative_to(root).as_posix() if root.is_dir() else path.name
-            digest.update(name.encode() + b"\0" + file_digest(path).encode())
+            content = hashlib.sha256(scene_as_read(path.read_bytes())).hexdigest() \
+                if scenes_as_read and path.suffix == ".scene" else file_digest(path)
+            digest.update(name.encode() + b"\0" + content.encode())
     return digest.hexdigest()
 
 

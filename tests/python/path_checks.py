@@ -81,10 +81,11 @@ def kept_render_key(chapter: str, arguments: list[str], out: Path) -> str:
 
 
 def scene_contents(path: Path) -> str:
-    """A scene file's text with each absolute path in it (close_up writes its meshes'
-    so) replaced by the digest of the file it names: the same scene in another clone
-    reads the same."""
-    text = path.read_text()
+    """A scene file's text as its reader reads it (without its comments:
+    reference_cache.scene_as_read), with each absolute path in it (close_up writes its
+    meshes' so) replaced by the digest of the file it names: the same scene in another
+    clone reads the same."""
+    text = reference_cache.scene_as_read(path.read_bytes()).decode("utf-8", "replace")
     for name in sorted(set(re.findall(r"/[^\s\"']+", text)), key=len, reverse=True):
         if Path(name).is_file():
             text = text.replace(name, f"<file {reference_cache.file_digest(Path(name))}>")

@@ -3,6 +3,7 @@ numpy's, on both backends; without the shadow offset, shadow acne must make it
 disagree; and planted mistakes must be rejected."""
 
 import numpy as np
+import page_claims
 import pytest
 
 import camera_rays
@@ -43,6 +44,7 @@ def test_without_shadow_offset_acne_darkens_lit_surfaces(tmp_path):
     # sphere touches the floor, starting 1 mm off the surface can itself matter.)
     brighter = np.any(acne > reference + 2.0, axis=-1)
     assert brighter.sum() < 0.01 * wrong.sum()
+    page_claims.check("05-no-shadow-offset", acne[wrong].mean() / reference[wrong].mean())
 
 
 def test_float64_without_offset_has_acne_too():

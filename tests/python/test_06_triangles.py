@@ -4,6 +4,7 @@ coordinates kept for chapter 08 must be right; without the normal flip the floor
 seen from behind, must go dark; and planted mistakes must be rejected."""
 
 import numpy as np
+import page_claims
 import pytest
 
 import camera_rays
@@ -63,6 +64,7 @@ def test_without_normal_flip_the_floor_seen_from_behind_goes_dark(tmp_path):
     assert np.mean(differs[floor]) > 0.95
     assert np.mean(differs[~floor]) < 0.005
     assert np.all(png[differs] < reference[differs])  # darker
+    page_claims.check("06-no-normal-flip", png[differs].mean() / reference[differs].mean())
 
 
 # Plausible mistakes, planted in a copy of the shaders.

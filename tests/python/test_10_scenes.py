@@ -172,6 +172,64 @@ def test_ambient_occlusion_converges_to_the_closed_form(tmp_path):
     assert scores.max() < 4.5, scores
 
 
+def escaping_share(scene, points, normal, rays: int, rng) -> np.ndarray:
+    """numpy's answer to --view ao with no distance limit: the share of `rays`
+    cosine-weighted directions from each point that meet nothing."""
+    u1, u2 = rng.random((2, len(points), rays))
+    radius, angle = np.sqrt(u1), 2 * np.pi * u2
+    side = np.cross(normal, [0.0, 1.0, 0.0] if abs(normal[1]) < 0.9 else [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    other = np.cross(normal, side)
+    directions = (radius[..., None] * (np.cos(angle)[..., None] * side
+                                       + np.sin(angle)[..., None] * other)
+                  + np.sqrt(1 - u1)[..., None] * normal)
+    origins = np.broadcast_to(points[:, None, :] + 1e-6 * normal, directions.shape)
+    hits = scene_cast.nearest_hits(scene, origins, directions)
+    return np.isinf(hits.t).mean(axis=1)
+
+
+def test_past_the_rooms_longest_chord_only_its_open_front_lights_it(tmp_path):
+    """Exercise 4's answer. The room has no wall at +z, where the camera looks in; every
+    other ray from inside meets a wall within the space diagonal, 2 sqrt(3) = 3.46 m. So
+    at --ao-distance 5 a point keeps the share of its sky it sees through the opening:
+    at the back wall's centre, in the empty room, the form factor of the 2 x 2 m opening
+    2 m away (four corner rectangles of 1 x 1 m), 0.2394; in cornell_spheres a little
+    less, where a sphere hides part of it. The GPU's back wall agrees with numpy's rays."""
+    rng = np.random.default_rng(10)
+    x = y = 1.0 / 2.0  # each quarter of the opening over the distance
+    corner = (x / np.hypot(1, x) * np.arctan(y / np.hypot(1, x))
+              + y / np.hypot(1, y) * np.arctan(x / np.hypot(1, y))) / (2 * np.pi)
+    assert 4 * corner == pytest.approx(0.2394, abs=1e-4)
+    path = ROOT / "assets" / "scenes" / "cornell_spheres.scene"
+    scene = scene_io.load_scene(str(path))
+    empty = scene_io.load_scene(str(path))
+    empty.spheres.clear()
+    empty.quads[:] = [q for q in empty.quads if q.material != "light"]
+    centre, normal = np.array([[0.0, 0.0, -1.0]]), np.array([0.0, 0.0, 1.0])
+    share = escaping_share(empty, centre, normal, 200_000, rng)[0]
+    assert share == pytest.approx(4 * corner, abs=4.5 * np.sqrt(0.24 * 0.76 / 200_000))
+    corners = np.array([np.add(q.origin, np.multiply(a, q.edge1) + np.multiply(b, q.edge2))
+                        for q in empty.quads for a in (0, 1) for b in (0, 1)])
+    longest = np.linalg.norm(corners[:, None] - corners[None], axis=-1).max()
+    assert longest == pytest.approx(2 * np.sqrt(3)) and longest < 5  # the space diagonal
+
+    import mitsuba_reference
+    size, spp = 32, 256
+    image = render("10", tmp_path / "ao.pfm", "--scene", path, "--view", "ao",
+                   "--ao-distance", "5", "--width", size, "--height", size, "--spp", spp)
+    back = mitsuba_reference.region_masks(scene, size, size)["back"]
+    origin, directions = scene_cast.pixel_rays(scene.camera, size, size)
+    t = scene_cast.nearest_hits(scene, origin, directions).t
+    points = (origin + t[..., None] * directions)[back]
+    expected = escaping_share(scene, points, normal, 1000, rng)
+    seen = image[..., 0][back]
+    error = np.sqrt(np.sum(expected * (1 - expected)) / spp + np.sum(
+        expected * (1 - expected)) / 1000) / back.sum()
+    print(f"back wall at --ao-distance 5: {seen.mean():.4f}, numpy {expected.mean():.4f}")
+    assert back.sum() > 100 and expected.mean() > 0.15  # not dark: the opening shows
+    assert abs(seen.mean() - expected.mean()) < 4.5 * error
+
+
 def test_uniform_directions_taken_for_cosine_ones_are_rejected(tmp_path):
     """A planted mistake: directions uniform over the hemisphere (cos theta = u) in
     place of cosine-distributed ones (cos theta = sqrt(1 - u)): occlusion is then

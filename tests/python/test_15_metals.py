@@ -18,6 +18,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import page_claims
 import path_checks
 import pytest
 from conftest import ROOT, regions_agreeing, run_chapter
@@ -315,6 +316,38 @@ def test_estimators_agree_on_the_glossy_plates(plate_images, pair):
     assert len(compared) >= 5
 
 
+def test_each_estimator_wins_where_the_page_says(plate_images):
+    # The page's map (Veach's thesis, section 9.2): light sampling wins on the rough back
+    # plate where it reflects the small lamps (its left half), BSDF sampling on the
+    # polished front plate where it reflects the large ones (its right half). Each one's
+    # error against Mitsuba there, at the same samples, is under a third of the other's.
+    pytest.importorskip("mitsuba")
+    import scene_io
+    scene_file = SCENES / "glossy_plates.scene"
+    scene = scene_io.load_scene(str(scene_file), [])
+    reference = path_checks.kept_mitsuba(scene, 96, 72, 512, 6, seed=0, variant="scalar_rgb")
+
+    def error(estimator, plate, half):
+        mask, _ = path_checks.named_region(reference, scene_file, plate)
+        columns = np.flatnonzero(mask.any(axis=0))
+        middle = (columns.min() + columns.max() + 1) // 2
+        mask = mask.copy()
+        if half == "left":
+            mask[:, middle:] = False
+        else:
+            mask[:, :middle] = False
+        assert mask.sum() >= 20, (plate, half, mask.sum())
+        difference = plate_images[estimator][mask] - reference[mask]
+        return float(np.sqrt(np.mean(difference ** 2)))
+
+    rough = {e: error(e, "plate4", "left") for e in ("nee", "bsdf")}
+    polished = {e: error(e, "plate1", "right") for e in ("nee", "bsdf")}
+    print(f"RMSE, rough plate and small lamps: {rough}; polished plate and large lamps: "
+          f"{polished}")
+    assert rough["nee"] < rough["bsdf"] / 3
+    assert polished["bsdf"] < polished["nee"] / 3
+
+
 # --- Planted bugs ---------------------------------------------------------------------------
 
 @pytest.mark.parametrize("bug", [MISSING_JACOBIAN, HALF_VECTOR_NOT_NORMALISED, ETA_K_SWAPPED],
@@ -339,6 +372,21 @@ def test_planted_bug_fails_the_comparison_with_mitsuba(tmp_path, bug, mitsuba_me
                       shader_dir=shaders_with(tmp_path, bug))
     with pytest.raises(AssertionError):
         assert_agrees_in_every_region(ours, mitsuba_metals)
+
+
+def test_missing_jacobian_darkens_the_rough_gold_as_the_page_says(tmp_path, mitsuba_metals):
+    # The pdf 4 (wo . m) times too large shrinks each sample's weight: the rough gold
+    # darker than Mitsuba's, and by more than its noise (the page's sentence is checked
+    # against this ratio, page_claims).
+    ours = path_trace(tmp_path, "bug", "--width", 64, "--height", 64, "--spp", 256,
+                      shader_dir=shaders_with(tmp_path, MISSING_JACOBIAN))
+    mask, _ = path_checks.named_region(ours, SCENES / "cornell_metals.scene", "gold_sphere")
+    ratio = ours[mask].mean() / mitsuba_metals[mask].mean()
+    brightness_difference = (ours[mask] - mitsuba_metals[mask]).mean(axis=-1, keepdims=True)
+    mean, error = mean_and_error(brightness_difference)
+    print(f"gold with the Jacobian left out / Mitsuba: {ratio:.3f}")
+    assert abs(mean) > SIGMAS * error, (mean, error)
+    page_claims.check("15-missing-jacobian", ratio)
 
 
 def test_delta_bsdf_given_to_nee_fails_the_mirror_furnace(tmp_path):

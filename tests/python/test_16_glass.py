@@ -21,6 +21,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import page_claims
 import path_checks
 import pytest
 from conftest import ROOT, regions_agreeing, run_chapter
@@ -364,6 +365,11 @@ def test_no_radiance_scale_fails_the_lamp_in_glass(tmp_path):
                        shader_dir=shaders_with(tmp_path, NO_RADIANCE_SCALE))
     with pytest.raises(AssertionError):
         assert_lamp_dimmed(image)
+    import scene_io
+    expected = lamp_expected(scene_io.load_scene(str(TEST_SCENES / "glass_lamp.scene"), []),
+                             48, 48)
+    lamp = np.isfinite(expected)
+    page_claims.check("16-no-radiance-scale", image[lamp].mean() / expected[lamp].mean())
 
 
 @pytest.mark.parametrize("bug, fixture", [(FRESNEL_INDICES_SWAPPED, "mitsuba_glass"),

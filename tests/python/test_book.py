@@ -217,3 +217,43 @@ def test_setup_page_gives_every_exit_code_of_set_up(built_book):
                           "PYTHON_TOO_OLD", "PIP_FAILED"}
     for name, code in codes.items():
         assert f"<td>{code}</td>" in source, f"exit code {code} ({name}) is not explained"
+
+
+# --- What the pages say a planted bug does ---------------------------------------------------
+
+def test_every_claim_in_the_pages_is_held_by_the_test_that_plants_its_bug():
+    """Each sentence marked `<!-- claim NAME: DIRECTION -->` (page_claims) is checked by
+    a test that measures the picture with the bug: its name appears in exactly one
+    page_claims.check call, so no claim stands unheld and no check names a claim that
+    is gone."""
+    import page_claims
+    claims = page_claims.all_claims()
+    assert len(claims) >= 4
+    names = [claim.name for claim in claims]
+    assert len(names) == len(set(names)), names
+    tests = {path.name: path.read_text() for path in (ROOT / "tests" / "python").glob("test_*.py")
+             if path.name != "test_book.py"}  # whose own claims below are made up
+    checked = {name for text in tests.values()
+               for name in re.findall(r'page_claims\.check\(\s*"([^"]+)"', text)}
+    for claim in claims:
+        assert claim.direction in page_claims.DIRECTIONS, claim.where()
+        assert claim.name in checked, f"{claim.where()}: no test checks claim {claim.name}"
+    assert checked <= set(names), f"checks of claims no page makes: {checked - set(names)}"
+
+
+def test_a_claim_the_measurement_contradicts_fails_naming_its_page(tmp_path, monkeypatch):
+    import page_claims
+    page = tmp_path / "chapters" / "99_test.md"
+    page.parent.mkdir(parents=True)
+    page.write_text("Intro.\nForget it and the picture is too dark. "
+                    "<!-- claim 99-forgotten: darker -->\n")
+    monkeypatch.setattr(page_claims, "PAGES", tmp_path)
+    page_claims.check("99-forgotten", 0.7)  # darker, as the page says
+    with pytest.raises(AssertionError, match=r"99_test\.md:2 says the picture comes out "
+                                             r"darker.*1\.300"):
+        page_claims.check("99-forgotten", 1.3)
+    page.write_text("<!-- claim 99-forgotten: greener -->\n")
+    with pytest.raises(AssertionError, match="greener"):
+        page_claims.check("99-forgotten", 0.7)
+    with pytest.raises(AssertionError, match="in 0 places"):
+        page_claims.check("99-unknown", 0.7)

@@ -94,6 +94,34 @@ def test_keys_tell_their_parts_apart(tmp_path):
     assert reference_cache.tree_digest(two) != before
 
 
+def test_a_scene_counts_as_its_reader_reads_it(tmp_path):
+    # The reader (common/text_file.cpp) drops each line's comment and keeps the line:
+    # rewording a comment keeps the key; a number, a new line, or a control byte in a
+    # comment (which the reader refuses) makes another.
+    tree = tmp_path / "assets"
+    tree.mkdir()
+    scene = tree / "room.scene"
+
+    def digest(text: bytes) -> str:
+        scene.write_bytes(text)
+        return reference_cache.tree_digest(tree, scenes_as_read=True)
+
+    first = digest(b"# a room\nsphere 0 0 0 1 white  # the ball\n")
+    assert digest(b"# a room, reworded\nsphere 0 0 0 1 white  # a ball\n") == first
+    assert digest(b"# a room\nsphere 0 0 0 2 white  # the ball\n") != first
+    assert digest(b"\n# a room\nsphere 0 0 0 1 white  # the ball\n") != first
+    assert digest(b"# a room\x01\nsphere 0 0 0 1 white  # the ball\n") != first
+    # Other files, and scenes without scenes_as_read, count byte for byte.
+    scene.write_bytes(b"# a room\nsphere 0 0 0 1 white  # the ball\n")
+    raw = reference_cache.tree_digest(tree)
+    scene.write_bytes(b"# a room, reworded\nsphere 0 0 0 1 white  # a ball\n")
+    assert reference_cache.tree_digest(tree) != raw
+    (tree / "notes.txt").write_bytes(b"# one")
+    before = reference_cache.tree_digest(tree, scenes_as_read=True)
+    (tree / "notes.txt").write_bytes(b"# two")
+    assert reference_cache.tree_digest(tree, scenes_as_read=True) != before
+
+
 # ---------------------------------------------------------------- the grader's references
 
 @pytest.fixture
