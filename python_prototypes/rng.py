@@ -130,8 +130,9 @@ def naive_state(seed: int, pixel_index) -> np.ndarray:
 def hashed_state(seed: int, pixel_index, hash_function=pcg_hash) -> np.ndarray:
     """z_k = hash(s_k + hash(p)): neighbouring pixels start far apart. (4, P).
 
-    The inner hash spreads the pixel indices; the outer one mixes in the seed word, so
-    that pixel p with seed s and pixel p + 1 with seed s - 1 do not share a state.
+    The inner hash spreads the pixel indices, so that pixel p with seed s and pixel
+    p + 1 with seed s - 1 do not start alike (as with hash(s + p)); the outer one makes
+    the state a non-linear function of the seed word.
     """
     pixels = _u32(np.atleast_1d(pixel_index))
     with np.errstate(over="ignore"):

@@ -257,3 +257,22 @@ def test_a_claim_the_measurement_contradicts_fails_naming_its_page(tmp_path, mon
         page_claims.check("99-forgotten", 0.7)
     with pytest.raises(AssertionError, match="in 0 places"):
         page_claims.check("99-unknown", 0.7)
+
+
+def test_the_instructors_catalogue_table_names_every_catalogued_variant():
+    """The table between the catalogue markers is written by ./course test --update-book
+    from what the suite measured (tools/catalogue_table.py); here it must name exactly
+    the variants of tests/python/grading_variants.py, each in its chapter and kind, with
+    a score a wrong variant may have (at most half) or a correct one (at least 90%)."""
+    import catalogue_table
+    import grading_variants
+    page = (ROOT / "book" / "docs" / "instructors.md").read_text()
+    table = page.split(catalogue_table.START, 1)[1].split(catalogue_table.END, 1)[0]
+    rows = re.findall(r"^\| (\w\w) \| (correct|wrong): (.+?) \| (\d+)% \|$", table, re.M)
+    listed = {(chapter, kind, name) for chapter, kind, name, _ in rows}
+    expected = {(number, "correct" if v.correct else "wrong", v.name)
+                for number, variants in grading_variants.CATALOGUE.items() for v in variants}
+    assert len(rows) == len(listed)
+    assert listed == expected, (sorted(expected - listed), sorted(listed - expected))
+    for _, kind, name, score in rows:
+        assert (int(score) >= 90) if kind == "correct" else (int(score) <= 50), name

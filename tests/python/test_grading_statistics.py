@@ -5,8 +5,10 @@ plausible wrong one at most half.
 
 The catalogues grade each variant with grader.grade, a chapter's two at a time (the
 machine's two cores), and write the scores and times to
-build/test-artifacts/grading-catalogue-NN.txt (the instructors page quotes them)."""
+build/test-artifacts/grading-catalogue-NN.txt and .json (the instructors page's table,
+./course test --update-book: tools/catalogue_table.py)."""
 
+import json
 import math
 import os
 import re
@@ -331,6 +333,12 @@ def write_summary(chapter: str, graded: dict, seconds: float):
         lines += [f"            {t['score']:>4} / {t['max_score']:<4} {t['name']}"
                   for t in results["tests"]]
     (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.txt").write_text("\n".join(lines) + "\n")
+    # The same scores for the instructors page's table (tools/catalogue_table.py).
+    variants = [{"name": variant.name, "correct": variant.correct,
+                 "score": results["score"] / sum(t["max_score"] for t in results["tests"])}
+                for variant, (results, _, _) in graded.items() if variant.edits]
+    (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.json").write_text(
+        json.dumps({"chapter": chapter, "variants": variants}, indent=1) + "\n")
 
 
 @pytest.mark.parametrize("variant", VARIANTS,
