@@ -270,8 +270,8 @@ def cmd_test(args):
     print(f"{passed} passed, {failed + skipped} failed")
     if getattr(args, "update_book", False):
         if whole and failed + skipped == 0:
-            import catalogue_table
-            catalogue_table.write(BUILD / "test-artifacts", started, update_book=True)
+            import measured_pages
+            measured_pages.write(BUILD / "test-artifacts", started, update_book=True)
         else:
             print("course: the instructors page is left as it is: --update-book writes it "
                   "only after a whole suite that passed", file=sys.stderr)
@@ -790,8 +790,8 @@ def main():
     test.add_argument("--sanitize", action="store_true",
                       help="build with ASan + UBSan and run the units and chapter checks")
     test.add_argument("--update-book", action="store_true",
-                      help="once the whole suite has passed, write the grading catalogues' "
-                           "measured scores into the instructors page")
+                      help="once the whole suite has passed, write what it measured into the "
+                           "pages (the catalogues' scores, the numbers pages mark)")
 
     fuzz = verbs.add_parser("fuzz", help="run the libFuzzer targets (OBJ, scene, #include)")
     fuzz.add_argument("target", nargs="?", help="only targets whose name contains this")

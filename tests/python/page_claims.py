@@ -1,6 +1,11 @@
-"""What the pages say a mistake does to a picture, held to what the tests measure.
+"""What the pages say about what the checks measure, held to the measurements.
 
-A page that says which way a planted bug moves the picture ("too dark", "brighter")
+Numbers. A page marks a measured number `<!-- number NAME -->0.4241<!-- /number -->`;
+the check that measures it calls `record(NAME, "0.4241")`, which writes the file
+`./course test --update-book` copies into the page (tools/measured_pages.py), and
+test_book checks that every marked number is recorded by a check.
+
+Directions. A page that says which way a planted bug moves the picture ("too dark", "brighter")
 marks the sentence with a comment at the end of its line, invisible in the book:
 
     ... the rough metals come out too **dark** ... <!-- claim 15-missing-jacobian: darker -->
@@ -14,10 +19,16 @@ slip in unheld."""
 from __future__ import annotations
 
 import re
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-PAGES = Path(__file__).resolve().parents[2] / "book" / "docs"
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+import measured_pages  # noqa: E402
+
+PAGES = ROOT / "book" / "docs"
+ARTIFACTS = ROOT / "build" / "test-artifacts"
 
 # Each direction a page may state, and what it means for the ratio
 # (the picture with the bug / the picture without it, in brightness).
@@ -68,3 +79,13 @@ def check(name: str, ratio: float) -> None:
     assert DIRECTIONS[claim.direction](ratio), (
         f"{claim.where()} says the picture comes out {claim.direction}, but the measured "
         f"ratio with the bug to without is {ratio:.3f}")
+
+
+def record(name: str, text: str) -> None:
+    """Writes a measured number, as the page should show it, for --update-book. The name
+    must be marked in a page (test_book checks the other way round)."""
+    pages = "".join(p.read_text(encoding="utf-8") for p in PAGES.rglob("*.md"))
+    assert f"<!-- number {name} -->" in pages, f"no page marks the number {name!r}"
+    folder = measured_pages.numbers_folder(ARTIFACTS)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / f"{name}.txt").write_text(text + "\n")

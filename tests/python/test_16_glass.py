@@ -245,7 +245,9 @@ def lamp_expected(scene, width, height, ior=1.5):
 def test_lamp_in_glass_is_dimmed_by_the_radiance_scale(tmp_path):
     image = path_trace(tmp_path, "lamp", "--scene", TEST_SCENES / "glass_lamp.scene",
                        "--width", 48, "--height", 48, "--spp", 64)
-    assert_lamp_dimmed(image)
+    measured, expected = assert_lamp_dimmed(image)
+    page_claims.record("16-lamp-in-glass", f"{measured:.4f}")
+    page_claims.record("16-lamp-expected", f"{expected:.4f}")
 
 
 def assert_lamp_dimmed(image):
@@ -260,6 +262,7 @@ def assert_lamp_dimmed(image):
     print(f"lamp through glass: {image[mask].mean():.4f}, expected "
           f"{expected[mask].mean():.4f} (without the scale: {unscaled:.4f})")
     assert np.all(np.abs(mean) < SIGMAS * error + 2e-3), (mean, error)
+    return image[mask].mean(), expected[mask].mean()
 
 
 # --- Mitsuba 3 ----------------------------------------------------------------------------
@@ -370,6 +373,7 @@ def test_no_radiance_scale_fails_the_lamp_in_glass(tmp_path):
                              48, 48)
     lamp = np.isfinite(expected)
     page_claims.check("16-no-radiance-scale", image[lamp].mean() / expected[lamp].mean())
+    page_claims.record("16-lamp-unscaled", f"{image[lamp].mean():.3f}")
 
 
 @pytest.mark.parametrize("bug, fixture", [(FRESNEL_INDICES_SWAPPED, "mitsuba_glass"),

@@ -261,13 +261,13 @@ def test_a_claim_the_measurement_contradicts_fails_naming_its_page(tmp_path, mon
 
 def test_the_instructors_catalogue_table_names_every_catalogued_variant():
     """The table between the catalogue markers is written by ./course test --update-book
-    from what the suite measured (tools/catalogue_table.py); here it must name exactly
+    from what the suite measured (tools/measured_pages.py); here it must name exactly
     the variants of tests/python/grading_variants.py, each in its chapter and kind, with
     a score a wrong variant may have (at most half) or a correct one (at least 90%)."""
-    import catalogue_table
+    import measured_pages
     import grading_variants
     page = (ROOT / "book" / "docs" / "instructors.md").read_text()
-    table = page.split(catalogue_table.START, 1)[1].split(catalogue_table.END, 1)[0]
+    table = page.split(measured_pages.START, 1)[1].split(measured_pages.END, 1)[0]
     rows = re.findall(r"^\| (\w\w) \| (correct|wrong): (.+?) \| (\d+)% \|$", table, re.M)
     listed = {(chapter, kind, name) for chapter, kind, name, _ in rows}
     expected = {(number, "correct" if v.correct else "wrong", v.name)
@@ -276,3 +276,38 @@ def test_the_instructors_catalogue_table_names_every_catalogued_variant():
     assert listed == expected, (sorted(expected - listed), sorted(listed - expected))
     for _, kind, name, score in rows:
         assert (int(score) >= 90) if kind == "correct" else (int(score) <= 50), name
+
+
+def test_every_number_a_page_marks_is_recorded_by_a_check():
+    """`<!-- number NAME -->` in a page (page_claims, tools/measured_pages.py) must be
+    written by a check's page_claims.record call, its name literal or an f-string whose
+    fields stand for any text; so ./course test --update-book can rewrite every one."""
+    import measured_pages
+    marked = {(name, page.name) for page in (ROOT / "book" / "docs").rglob("*.md")
+              for name, _ in measured_pages.NUMBER.findall(page.read_text())}
+    assert len(marked) >= 10
+    sources = "\n".join(p.read_text() for p in (ROOT / "tests" / "python").glob("test_*.py"))
+    patterns = [re.escape(re.sub(r"\{[^}]*\}", "\0", text)).replace("\0", ".+")
+                for text in re.findall(r'page_claims\.record\(\s*f?"([^"]+)"', sources)]
+    for name, page in sorted(marked):
+        assert any(re.fullmatch(p, name) for p in patterns), \
+            f"{page}: the number {name} is recorded by no check"
+
+
+def test_update_book_writes_only_this_runs_numbers(tmp_path):
+    import measured_pages
+    pages, artifacts = tmp_path / "docs", tmp_path / "artifacts"
+    pages.mkdir()
+    page = pages / "page.md"
+    page.write_text("Measured <!-- number a -->1.0<!-- /number --> and "
+                    "<!-- number b -->2.0<!-- /number -->.\n")
+    folder = measured_pages.numbers_folder(artifacts)
+    folder.mkdir(parents=True)
+    (folder / "a.txt").write_text("1.5\n")
+    old = folder / "b.txt"
+    old.write_text("9.9\n")
+    import os
+    os.utime(old, (1, 1))  # an earlier run's
+    assert measured_pages.write_numbers(artifacts, since=100, pages=pages) == ["a"]
+    assert page.read_text() == ("Measured <!-- number a -->1.5<!-- /number --> and "
+                                "<!-- number b -->2.0<!-- /number -->.\n")

@@ -6,7 +6,7 @@ plausible wrong one at most half.
 The catalogues grade each variant with grader.grade, a chapter's two at a time (the
 machine's two cores), and write the scores and times to
 build/test-artifacts/grading-catalogue-NN.txt and .json (the instructors page's table,
-./course test --update-book: tools/catalogue_table.py)."""
+./course test --update-book: tools/measured_pages.py)."""
 
 import json
 import math
@@ -333,7 +333,7 @@ def write_summary(chapter: str, graded: dict, seconds: float):
         lines += [f"            {t['score']:>4} / {t['max_score']:<4} {t['name']}"
                   for t in results["tests"]]
     (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.txt").write_text("\n".join(lines) + "\n")
-    # The same scores for the instructors page's table (tools/catalogue_table.py).
+    # The same scores for the instructors page's table (tools/measured_pages.py).
     variants = [{"name": variant.name, "correct": variant.correct,
                  "score": results["score"] / sum(t["max_score"] for t in results["tests"])}
                 for variant, (results, _, _) in graded.items() if variant.edits]
