@@ -134,6 +134,10 @@ def test_a_square_aperture_is_caught(tmp_path):
 def test_radius_uniform_polar_samples_are_caught(tmp_path):
     points = aperture_points(shaders_with(tmp_path, RADIUS_UNIFORM), tmp_path)
     assert uniform_on_the_disk_p_value(points) < 1e-6
+    # And they crowd the centre, as the page says: half of them inside half the radius,
+    # where a uniform disk puts a quarter.
+    inner = np.mean(np.sum(points ** 2, axis=1) < 0.25)
+    assert inner > 0.4, inner
 
 
 # --- In focus, the lens is the pinhole --------------------------------------------------------

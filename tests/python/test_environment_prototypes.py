@@ -464,6 +464,13 @@ def test_chi_square_rejects_a_sampler_without_sin_theta(spots_image, spots_sampl
                                                np.random.default_rng(1), SAMPLES)
     print(f"sampler without sin θ: χ² {statistic:.1f}, {dof} dof, p {p:.3g}")
     assert p < 1e-9
+    # And its rows crowd the poles, as chapter 18's page says: the eighth of the rows
+    # nearest each pole get more of its samples than of the right sampler's.
+    u = np.random.default_rng(2).random((2, 100_000))
+    polar = [np.mean(np.minimum(rows, s.height - 1 - rows) < s.height / 8)
+             for s in (wrong, spots_sampler) for rows in [s.sample(*u)[2][0]]]
+    print(f"samples in the polar rows: without sin θ {polar[0]:.3f}, right {polar[1]:.3f}")
+    assert polar[0] > 1.2 * polar[1]
 
 
 def passes_z_test(samples, exact, standard_errors=4.0):
