@@ -146,7 +146,7 @@ CHANGES = {
     "the common layer": lambda root: append(root / "common" / "session.cpp"),
     "the build files": lambda root: append(root / "CMakeLists.txt", "# x\n"),
     "a scene file": lambda root: append(root / "assets" / "scenes" / "cornell_box.scene",
-                                        "# x\n"),
+                                        "material x albedo 1 1 1\n"),
     "a new asset": lambda root: (root / "assets" / "new.txt").write_text("x"),
 }
 
