@@ -4,6 +4,7 @@ spheres numpy finds (with the quadratic formula, in float64), on both backends; 
 planted mistakes must be rejected."""
 
 import numpy as np
+import page_claims
 import pytest
 
 import camera_rays
@@ -47,6 +48,7 @@ def test_first_hit_bug_differs_exactly_where_spheres_overlap(tmp_path):
     differs = np.any(np.abs(bug - reference_png()) > 2.0, axis=-1)
     assert overlap.sum() > 0.01 * overlap.size  # the scene really has overlaps
     assert np.mean(differs != overlap) < 0.002, (differs.sum(), overlap.sum())
+    page_claims.record("04-first-hit-overlap", f"{overlap.mean():.1%}")
 
 
 # Plausible mistakes, planted in a copy of the shaders.

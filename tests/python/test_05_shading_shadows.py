@@ -40,6 +40,7 @@ def test_without_shadow_offset_acne_darkens_lit_surfaces(tmp_path):
         assert_images_agree(acne, reference)
     wrong = np.any(np.abs(acne - reference) > 2.0, axis=-1)
     assert wrong.mean() > 0.02  # many pixels, not a few silhouette pixels
+    page_claims.record("05-acne-gpu", f"{wrong.mean():.1%}")
     # Acne is light wrongly blocked: the wrong pixels are darker. (Not all: where a
     # sphere touches the floor, starting 1 mm off the surface can itself matter.)
     brighter = np.any(acne > reference + 2.0, axis=-1)
@@ -57,6 +58,10 @@ def test_float64_without_offset_has_acne_too():
     without_offset, _ = light_visible(surfaces, points, normals, shadow_offset=0.0)
     acne = (with_offset != without_offset)[..., 0] & lit
     assert acne.sum() > 0.03 * lit.sum()
+    # The page's figure: the share of the float64 picture's pixels that change.
+    changed = np.any(np.abs(reference_png() - srgb_encode_8bit(render_shaded(
+        "spheres", WIDTH, HEIGHT, shadow_offset=0.0))) > 2.0, axis=-1)
+    page_claims.record("05-acne-float64", f"{changed.mean():.1%}")
 
 
 # Plausible mistakes, planted in a copy of the shaders.
