@@ -81,6 +81,14 @@ def check(name: str, ratio: float) -> None:
         f"ratio with the bug to without is {ratio:.3f}")
 
 
+def plus_minus(mean: float, error: float) -> str:
+    """"2.0010 ± 0.0050": a measured mean to the digits its standard error allows (two
+    significant digits of the error)."""
+    import math
+    decimals = max(0, 1 - math.floor(math.log10(error))) if error > 0 else 4
+    return f"{mean:.{decimals}f} ± {error:.{decimals}f}"
+
+
 def record(name: str, text: str) -> None:
     """Writes a measured number, as the page should show it, for --update-book. The name
     must be marked in a page (test_book checks the other way round)."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import page_claims
 import path_checks
 import pytest
 from conftest import ROOT, regions_agreeing, run_chapter
@@ -35,6 +36,9 @@ def test_furnace_box_returns_emission_over_one_minus_albedo(tmp_path, estimator)
                        "--width", 32, "--height", 32, "--spp", 32, "--depth", 40,
                        "--estimator", estimator)
     assert_mean_everywhere(image, 2.0)
+    mean, error = mean_and_error(image)
+    page_claims.record(f"12-furnace-{estimator}", page_claims.plus_minus(mean.mean(),
+                                                                        error.mean()))
 
 
 def test_white_furnace_depth_counts_bounces(tmp_path):
@@ -45,6 +49,8 @@ def test_white_furnace_depth_counts_bounces(tmp_path):
                            "--spp", 32, "--depth", depth)
         mean, error = mean_and_error(image)
         assert np.all(np.abs(mean - (depth + 1)) < SIGMAS * error + 1e-4), (depth, mean)
+        page_claims.record(f"12-white-depth-{depth}",
+                           page_claims.plus_minus(mean.mean(), error.mean()))
 
 
 def test_white_sphere_vanishes_in_the_furnace(tmp_path):
@@ -53,6 +59,7 @@ def test_white_sphere_vanishes_in_the_furnace(tmp_path):
                        "--width", 32, "--height", 32, "--spp", 32)
     mean, error = mean_and_error(image)
     assert np.all(np.abs(mean - 1.0) < SIGMAS * error + 1e-4), (mean, error)
+    page_claims.record("12-white-sphere", page_claims.plus_minus(mean.mean(), error.mean()))
 
 
 # --- Direct light with a closed form --------------------------------------------------
@@ -69,6 +76,8 @@ def test_floor_under_a_square_light_matches_the_form_factor(tmp_path, estimator)
     mean, error = mean_and_error(centre)
     assert np.all(np.abs(mean - expected) < SIGMAS * error + 2e-4 * expected), \
         (mean, error, expected)
+    page_claims.record(f"12-square-{estimator}",
+                       page_claims.plus_minus(mean.mean(), error.mean()))
 
 
 # --- Estimators agree -----------------------------------------------------------------
