@@ -11,6 +11,7 @@ import json
 import subprocess
 
 import numpy as np
+import page_claims
 import path_checks
 import pytest
 from conftest import (WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders, read_pfm,
@@ -67,6 +68,8 @@ def test_floor_under_a_square_light_matches_the_form_factor(tmp_path):
     mean, error = mean_and_error(centre)
     assert np.all(np.abs(mean - expected) < SIGMAS * error + 2e-4 * expected), \
         (mean, error, expected)
+    page_claims.record("11-square", page_claims.plus_minus(mean.mean(), error.mean()))
+    page_claims.record("11-square-z", f"{abs(mean.mean() - expected) / error.mean():.1f}")
 
 
 # --- Convergence ----------------------------------------------------------------------
