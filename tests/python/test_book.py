@@ -286,6 +286,11 @@ def test_every_number_a_page_marks_is_recorded_by_a_check():
     marked = {(name, page.name) for page in (ROOT / "book" / "docs").rglob("*.md")
               for name, _ in measured_pages.NUMBER.findall(page.read_text())}
     assert len(marked) >= 10
+    # A line that starts with a marker would begin a raw HTML block, cutting its
+    # paragraph or list item in two: markers stand inside or at the end of a line.
+    for page in (ROOT / "book" / "docs").rglob("*.md"):
+        for number, line in enumerate(page.read_text().splitlines(), 1):
+            assert not re.match(r"\s*<!-- (number|claim) ", line), f"{page.name}:{number}"
     sources = "\n".join(p.read_text() for p in (ROOT / "tests" / "python").glob("test_*.py"))
     patterns = [re.escape(re.sub(r"\{[^}]*\}", "\0", text)).replace("\0", ".+")
                 for text in re.findall(r'page_claims\.record\(\s*f?"([^"]+)"', sources)]
