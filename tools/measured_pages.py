@@ -77,14 +77,14 @@ def write_numbers(artifacts: Path, since: float = 0.0, pages: Path = PAGES) -> l
     return written
 
 
-def write(artifacts: Path, since: float, update_book: bool, page: Path = PAGE) -> int:
-    """Writes what this run measured into the pages when asked; says what it did."""
+def write(artifacts: Path, since: float, page: Path = PAGE) -> int:
+    """Writes what this run measured into the pages; says what it wrote."""
     table = catalogue_table(artifacts, since)
     if table is None:
         print(f"measured pages: no catalogue of this run in {artifacts}", file=sys.stderr)
         return 1
-    bench_common.book_or_not(update_book, page, START, END, table)
-    if update_book:
-        written = write_numbers(artifacts, since)
-        print(f"measured pages: {len(written)} marked numbers written from this run")
+    if bench_common.write_table(page, START, END, table):
+        print(f"measured pages: wrote the catalogue table into {page}")
+    written = write_numbers(artifacts, since)
+    print(f"measured pages: {len(written)} marked numbers written from this run")
     return 0

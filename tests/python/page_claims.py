@@ -18,6 +18,8 @@ slip in unheld."""
 
 from __future__ import annotations
 
+import functools
+import math
 import re
 import sys
 from dataclasses import dataclass
@@ -84,16 +86,21 @@ def check(name: str, ratio: float) -> None:
 def plus_minus(mean: float, error: float) -> str:
     """"2.0010 ± 0.0050": a measured mean to the digits its standard error allows (two
     significant digits of the error)."""
-    import math
     decimals = max(0, 1 - math.floor(math.log10(error))) if error > 0 else 4
     return f"{mean:.{decimals}f} ± {error:.{decimals}f}"
+
+
+@functools.cache
+def marked_numbers() -> frozenset[str]:
+    """The names of the numbers the pages mark (measured_pages.NUMBER), read once."""
+    return frozenset(name for page in PAGES.rglob("*.md")
+                     for name, _ in measured_pages.NUMBER.findall(page.read_text(encoding="utf-8")))
 
 
 def record(name: str, text: str) -> None:
     """Writes a measured number, as the page should show it, for --update-book. The name
     must be marked in a page (test_book checks the other way round)."""
-    pages = "".join(p.read_text(encoding="utf-8") for p in PAGES.rglob("*.md"))
-    assert f"<!-- number {name} -->" in pages, f"no page marks the number {name!r}"
+    assert name in marked_numbers(), f"no page marks the number {name!r}"
     folder = measured_pages.numbers_folder(ARTIFACTS)
     folder.mkdir(parents=True, exist_ok=True)
     (folder / f"{name}.txt").write_text(text + "\n")

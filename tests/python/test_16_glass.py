@@ -250,11 +250,17 @@ def test_lamp_in_glass_is_dimmed_by_the_radiance_scale(tmp_path):
     page_claims.record("16-lamp-expected", f"{expected:.4f}")
 
 
-def assert_lamp_dimmed(image):
+def lamp_through_glass():
+    """(the pixels that see the lamp through the ball, the radiance each should show)
+    for glass_lamp.scene at 48 x 48."""
     import scene_io
     scene = scene_io.load_scene(str(TEST_SCENES / "glass_lamp.scene"), [])
     expected = lamp_expected(scene, 48, 48)
-    mask = np.isfinite(expected)
+    return np.isfinite(expected), expected
+
+
+def assert_lamp_dimmed(image):
+    mask, expected = lamp_through_glass()
     assert mask.sum() > 200
     residual = image[mask] - expected[mask][:, None]
     mean, error = mean_and_error(residual)
@@ -368,10 +374,7 @@ def test_no_radiance_scale_fails_the_lamp_in_glass(tmp_path):
                        shader_dir=shaders_with(tmp_path, NO_RADIANCE_SCALE))
     with pytest.raises(AssertionError):
         assert_lamp_dimmed(image)
-    import scene_io
-    expected = lamp_expected(scene_io.load_scene(str(TEST_SCENES / "glass_lamp.scene"), []),
-                             48, 48)
-    lamp = np.isfinite(expected)
+    lamp, expected = lamp_through_glass()
     page_claims.check("16-no-radiance-scale", image[lamp].mean() / expected[lamp].mean())
     page_claims.record("16-lamp-unscaled", f"{image[lamp].mean():.3f}")
 
