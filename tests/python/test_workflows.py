@@ -1,7 +1,8 @@
 """The GitHub Actions workflows, the repository's own (.github/workflows/) and the one
 every released starter carries, are valid by GitHub's workflow schema and do what the
 course needs: the checks on ubuntu-24.04 with the layered set-up (`./course packages
-test`, then `./course test`), and the book published to GitHub Pages.
+test`, then `./course test`), and the book published to GitHub Pages, in the edition
+the pages say it publishes (book/docs/instructors.md, marked `published-edition`).
 
 The linter is check-jsonschema with its vendored copy of SchemaStore's
 github-workflow schema: it needs no network. actionlint, which also knows the
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -24,6 +26,7 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 import classroom  # noqa: E402
+import editions  # noqa: E402
 
 WORKFLOWS = sorted((ROOT / ".github" / "workflows").glob("*.y*ml"))
 CHECK_JSONSCHEMA = Path(sys.executable).with_name("check-jsonschema")
@@ -34,6 +37,15 @@ OFFLINE = dict(os.environ, HTTP_PROXY="http://127.0.0.1:9", HTTPS_PROXY="http://
 # Pinned by major version: owner/name@vN (or a local action, ./path).
 PINNED = re.compile(r"^(\./.+|[\w.-]+/[\w.-]+(/[\w./-]+)?@v\d+)$")
 DEPRECATED = ("education/autograding", "classroom-resources/autograding")
+
+# Which edition of the book the course's own workflow publishes is said in the pages
+# by a comment at the end of the sentence that says it, invisible in the book:
+#     ... it builds `./course book` and uploads `book/site`. <!-- published-edition: instructors -->
+# (inside a line, never at its start: a line that starts with a comment is a raw HTML block).
+PUBLISHED = re.compile(r"<!-- published-edition: ([a-z]+) -->")
+EDITION_WORDS = {"instructors": "instructors' edition", "student": "student edition"}
+PAGES = [*sorted((ROOT / "book" / "docs").rglob("*.md")), ROOT / "README.md"]
+INSTRUCTORS_PAGE = ROOT / "book" / "docs" / "instructors.md"
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +63,11 @@ def schema_check(path: Path) -> subprocess.CompletedProcess:
 
 
 def load(path: Path) -> dict:
-    workflow = yaml.safe_load(path.read_text())
+    return load_text(path.read_text())
+
+
+def load_text(text: str) -> dict:
+    workflow = yaml.safe_load(text)
     if True in workflow:  # YAML 1.1 reads the key `on` as true
         workflow["on"] = workflow.pop(True)
     return workflow
@@ -69,6 +85,78 @@ def uses(workflow: dict) -> list[str]:
 def jobs_using(workflow: dict, action: str) -> list[dict]:
     return [job for job in workflow["jobs"].values()
             if any(step.get("uses", "").startswith(action + "@") for step in job.get("steps", []))]
+
+
+def site_of(edition: str) -> str:
+    """Where ./course book writes an edition, relative to the repository: the student
+    edition where book/hooks/edition.py puts it, the instructors' where mkdocs.yml says."""
+    if edition == "student":
+        return editions.STUDENT_SITE.relative_to(ROOT).as_posix()
+    config = (ROOT / "book" / "mkdocs.yml").read_text()
+    (site_dir,) = re.findall(r"^site_dir:\s*(\S+)\s*$", config, re.MULTILINE)
+    return (Path("book") / site_dir).as_posix()
+
+
+def published(workflow: dict) -> tuple[str, str, str]:
+    """(edition, command, path): what the workflow's Pages job builds with ./course book
+    and uploads. Fails if it builds other than one edition, or uploads another's site."""
+    (book,) = jobs_using(workflow, "actions/upload-pages-artifact")
+    commands = [line.strip() for step in book.get("steps", [])
+                for line in step.get("run", "").splitlines()
+                if re.search(r"\./course book\b", line)]
+    assert len(commands) == 1, f"the Pages job runs ./course book once, not {commands}"
+    (command,) = commands
+    words = shlex.split(command)
+    assert words[:2] == ["./course", "book"], command
+    assert set(words[2:]) <= {"--student"}, f"{command}: the full book, built, not served"
+    edition = "student" if "--student" in words else "instructors"
+    upload = next(s for s in book["steps"] if s.get("uses", "").startswith(
+        "actions/upload-pages-artifact@"))
+    path = upload["with"]["path"].rstrip("/")
+    assert path == site_of(edition), \
+        f"the workflow builds the {edition} edition ({command}) but uploads {path}"
+    return edition, command, path
+
+
+def page_statements(pages: dict[Path, str]) -> list[tuple[str, str, str]]:
+    """(where, edition, sentence) for every published-edition comment in the pages: the
+    sentence is the one the comment ends, its lines joined."""
+    found = []
+    for page, text in pages.items():
+        name = page.relative_to(ROOT).as_posix()
+        lines = []  # the line of each comment, in order
+        for number, line in enumerate(text.splitlines(), 1):
+            for _ in PUBLISHED.finditer(line):
+                assert not re.match(r"\s*<!--", line), \
+                    f"{name}:{number}: the comment starts its line (a raw HTML block)"
+                lines.append(number)
+        for paragraph in re.split(r"\n\s*\n", text):
+            joined = " ".join(paragraph.split())
+            for match in PUBLISHED.finditer(joined):
+                before = joined[:match.start()].rstrip()
+                sentence = re.split(r"(?<=\.)\s+(?=[A-Z(`])", before)[-1]
+                found.append((f"{name}:{lines.pop(0)}", match[1], sentence))
+    return found
+
+
+def disagreements(workflow: dict, pages: dict[Path, str]) -> list[str]:
+    """What the pages say about the published edition that the workflow does not do."""
+    edition, command, path = published(workflow)
+    statements = page_statements(pages)
+    wrong = []
+    if not any(where.startswith("book/docs/instructors.md:") for where, _, _ in statements):
+        wrong.append("book/docs/instructors.md does not say which edition is published")
+    for where, said, sentence in statements:
+        if said not in EDITION_WORDS:
+            wrong.append(f"{where}: {said!r} is no edition; known: {sorted(EDITION_WORDS)}")
+        elif said != edition:
+            wrong.append(f"{where} says the {EDITION_WORDS[said]} is published; "
+                         f"the workflow runs {command} and uploads {path}")
+        else:
+            for needed in (EDITION_WORDS[said], f"`{command}`", f"`{path}`"):
+                if needed not in sentence:
+                    wrong.append(f"{where}: the sentence does not name {needed}: {sentence!r}")
+    return wrong
 
 
 def test_the_repository_has_its_course_workflow():
@@ -125,13 +213,9 @@ def test_the_course_workflow_publishes_the_book_to_pages_after_the_checks():
     jobs = workflow["jobs"]
     (book,) = jobs_using(workflow, "actions/upload-pages-artifact")
     assert book["runs-on"] == "ubuntu-24.04"
-    building = steps_running(book, "./course book --student")
-    assert building and not steps_running(book, "--draft"), "the full book, not the draft"
-    # Published, the book must not give the solutions away: the student edition.
+    assert not steps_running(book, "--draft"), "the full book, not the draft"
+    published(workflow)  # one edition built, and its site uploaded (which: the next test)
     assert steps_running(book, "$(./course packages book)")
-    upload = next(s for s in book["steps"] if s.get("uses", "").startswith(
-        "actions/upload-pages-artifact@"))
-    assert upload["with"]["path"] == "book/site-student"
     assert jobs_using(workflow, "actions/configure-pages") == [book]
 
     (deploy,) = jobs_using(workflow, "actions/deploy-pages")
@@ -144,6 +228,52 @@ def test_the_course_workflow_publishes_the_book_to_pages_after_the_checks():
     assert set(deploy["needs"]) >= {name_of[id(book)], testing}, "published only if it passed"
     for job in (book, deploy):
         assert "refs/heads/main" in job["if"] and "pull_request" in job["if"]
+
+
+def test_the_pages_say_which_edition_the_workflow_publishes():
+    """The repository is public, so its own site is the instructors' edition (a class
+    publishes the student edition from its own copy): the instructors' page says so,
+    marked, and every page that says it agrees with what course.yml builds and uploads."""
+    workflow = load(ROOT / ".github" / "workflows" / "course.yml")
+    pages = {page: page.read_text(encoding="utf-8") for page in PAGES}
+    assert disagreements(workflow, pages) == []
+    assert published(workflow)[0] == "instructors"
+
+
+def test_a_page_and_a_workflow_that_disagree_are_caught():
+    """The check can fail: the workflow flipped to the student edition, the page's
+    comment flipped, an edition built and another's site uploaded, a sentence that
+    names another command, and a comment that starts its line are each refused."""
+    text = (ROOT / ".github" / "workflows" / "course.yml").read_text()
+    page = INSTRUCTORS_PAGE.read_text(encoding="utf-8")
+    pages = {INSTRUCTORS_PAGE: page}
+    assert disagreements(load_text(text), pages) == []
+
+    student = text.replace("run: ./course book\n", "run: ./course book --student\n", 1) \
+                  .replace("path: book/site\n", "path: book/site-student\n", 1)
+    assert student != text
+    assert any("says the instructors' edition is published" in problem
+               for problem in disagreements(load_text(student), pages))
+
+    flipped = page.replace("<!-- published-edition: instructors -->",
+                           "<!-- published-edition: student -->")
+    assert flipped != page
+    assert disagreements(load_text(text), {INSTRUCTORS_PAGE: flipped})
+
+    half = text.replace("run: ./course book\n", "run: ./course book --student\n", 1)
+    with pytest.raises(AssertionError, match="uploads book/site"):
+        disagreements(load_text(half), pages)
+
+    other = page.replace("builds `./course book` and", "builds `./course book --draft` and")
+    assert other != page
+    assert disagreements(load_text(text), {INSTRUCTORS_PAGE: other})
+
+    assert disagreements(load_text(text), {INSTRUCTORS_PAGE: page.replace(
+        "<!-- published-edition: instructors -->", "")})
+    marker = "`book/site`. <!-- published-edition: instructors -->"
+    with pytest.raises(AssertionError, match="starts its line"):
+        disagreements(load_text(text), {INSTRUCTORS_PAGE: page.replace(
+            marker, "`book/site`.\n<!-- published-edition: instructors -->")})
 
 
 def test_a_starter_workflow_runs_the_chapters_checks_set_up_in_layers(starter_workflow):
