@@ -13,7 +13,7 @@ rotate_y DEGREES turns the map about +y counter-clockwise seen from above, as a 
 rotate_y turns a mesh: a world direction d is looked up at mapFromWorld d, the turn by
 -DEGREES. With 90, what the file shows along +x is seen along -z. scale S multiplies
 the radiance. Mitsuba's envmap with to_world = rotate([0, 1, 0], DEGREES) and scale S
-is the same light (tests/python/test_environment_light.py probes it).
+is the same light (tests/python/prototypes/test_environment_light.py probes it).
 """
 
 from __future__ import annotations
@@ -21,15 +21,13 @@ from __future__ import annotations
 import functools
 import math
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import pfm  # noqa: E402
-import sky  # noqa: E402
-import textures  # noqa: E402
+from python_prototypes import pfm
+from python_prototypes import sky
+from python_prototypes import textures
 
 
 def map_from_world(rotate_y_degrees: float) -> np.ndarray:

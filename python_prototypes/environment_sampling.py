@@ -25,17 +25,14 @@ row's step places the point inside the pixel vertically; u2 does the same within
 
 import argparse
 import math
-import sys
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from chi_square import chi_square_p_value, pool_small_cells  # noqa: E402
-from figure_file import save_figure_file  # noqa: E402
-import sky  # noqa: E402
+from python_prototypes.chi_square import chi_square_p_value, pool_small_cells
+from python_prototypes.figure_file import save_figure_file
+from python_prototypes import sky
 
 UP = np.array([0.0, 1.0, 0.0])  # the map's zenith, v = 0
 

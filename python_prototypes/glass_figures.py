@@ -15,8 +15,8 @@ import argparse
 
 import numpy as np
 
-import microfacet as mf
-from figure_file import new_figure, save_figure_file
+from python_prototypes import microfacet as mf
+from python_prototypes.figure_file import new_figure, save_figure_file
 
 # The stones of assets/scenes/cornell_gem_glass.scene: their indices of refraction.
 GEMS = {

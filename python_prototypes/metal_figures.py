@@ -17,8 +17,8 @@ import argparse
 
 import numpy as np
 
-import microfacet as mf
-from figure_file import new_figure, save_figure_file
+from python_prototypes import microfacet as mf
+from python_prototypes.figure_file import new_figure, save_figure_file
 
 # Mitsuba 3.9.1's RGB variants, mi.traverse(mi.load_dict({"type": "conductor",
 # "material": NAME})): eta and k at a red, a green and a blue wavelength.

@@ -1,7 +1,7 @@
 """Microfacet materials in numpy: the prototype of the chapter's mirror, conductor and
 dielectric, in Mitsuba 3's meanings. The GLSL is checked against these functions, and
 they against closed forms, statistics and Mitsuba itself
-(tests/python/test_microfacet_prototype.py).
+(tests/python/prototypes/test_microfacet_prototype.py).
 
 Conventions, all Mitsuba's, which the GLSL copies:
 

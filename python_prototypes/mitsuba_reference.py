@@ -72,10 +72,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import camera_rays  # noqa: E402
-import obj_io  # noqa: E402
-import scene_io  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes import obj_io
+from python_prototypes import scene_io
 
 VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
 # Debian bookworm's LLVM (apt-get install libllvm19); Dr.Jit's llvm_* variants need it
@@ -191,7 +190,7 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
                                 up=list(camera.up)),
     }
     if camera.lens_radius > 0:
-        import thin_lens
+        from python_prototypes import thin_lens
         sensor = thin_lens.mitsuba_thinlens_dict(camera.as_thin_lens_camera(), width,
                                                  height, spp)
     sensor.update({
@@ -267,7 +266,7 @@ def render_mitsuba(scene: scene_io.Scene, width: int, height: int, spp: int, bou
 # Files
 # ---------------------------------------------------------------------------------------
 
-from pfm import read_pfm, write_pfm  # noqa: E402,F401  (others read PFMs through here)
+from python_prototypes.pfm import read_pfm, write_pfm  # noqa: F401  (others read PFMs through here)
 
 
 # ---------------------------------------------------------------------------------------

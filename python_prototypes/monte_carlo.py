@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from figure_file import save_figure_file
+from python_prototypes.figure_file import save_figure_file
 
 
 SINE_INTEGRAL = 2.0  # ∫₀^π sin x dx

@@ -5,9 +5,10 @@ Header "PF", then "width height", then a scale whose sign is the byte order (neg
 little-endian); then the rows from the bottom of the image up, as the format says.
 "Pf" is the same with one float per pixel (greyscale).
 
-read_pfm is the quick reader of files we wrote ourselves; decode_pfm is the strict one
-for files a user names (an environment map in a scene file): every way the bytes can
-fail to be a PFM gets its own reason."""
+One reader for the whole course (the checks, the grader, the benches, the prototypes):
+decode_pfm reads the bytes as the C++ reader does, and every way they can fail to be a
+PFM gets its own reason; read_pfm and parse_pfm are it for an RGB image, as float64,
+with the file's name in the reason (a grader's report shows it to a student)."""
 
 from __future__ import annotations
 
@@ -29,18 +30,6 @@ def write_pfm(path, image) -> None:
         file.write(f"PF\n{width} {height}\n-1.0\n".encode("ascii"))
         file.write(rows.tobytes())
     os.replace(partial, path)
-
-
-def read_pfm(path) -> np.ndarray:
-    """An RGB PFM as float64 (height, width, 3), row 0 at the top."""
-    data = Path(path).read_bytes()
-    header = data.split(b"\n", 3)
-    if header[0] != b"PF":
-        raise ValueError(f"{path}: not an RGB PFM")
-    width, height = map(int, header[1].split())
-    dtype = "<f4" if float(header[2]) < 0 else ">f4"
-    pixels = np.frombuffer(header[3], dtype=dtype, count=width * height * 3)
-    return pixels.reshape(height, width, 3)[::-1].astype(np.float64)
 
 
 class PfmError(ValueError):
@@ -92,3 +81,20 @@ def decode_pfm(data: bytes, most_side: int | None = None) -> np.ndarray:
                            count=width * height * channels, offset=start)
     image = values.reshape(height, width, channels)[::-1].astype(np.float32)
     return np.repeat(image, 3, axis=2) if channels == 1 else image
+
+
+def parse_pfm(data: bytes, name: str = "image") -> np.ndarray:
+    """The bytes of an RGB PFM ("PF") as float64 (height, width, 3), row 0 at the top.
+    Raises PfmError (a ValueError) naming `name` and what is wrong: a greyscale "Pf" is
+    refused here, since every picture the course writes is RGB."""
+    if data[:2] != b"PF" or data[2:3].isalnum():
+        raise PfmError(f"{name} is not an RGB PFM")
+    try:
+        return decode_pfm(data).astype(np.float64)
+    except PfmError as problem:
+        raise PfmError(f"{name} is {problem}") from None
+
+
+def read_pfm(path) -> np.ndarray:
+    """An RGB PFM file as float64 (height, width, 3), row 0 at the top (parse_pfm)."""
+    return parse_pfm(Path(path).read_bytes(), Path(path).name)

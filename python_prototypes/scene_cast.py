@@ -12,15 +12,13 @@ prints what the centre pixel of a 64 x 64 picture sees. Meshes are not read here
 from __future__ import annotations
 
 import argparse
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import camera_rays  # noqa: E402
-import scene_io  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes import scene_io
 
 MISS = -1
 

@@ -28,17 +28,15 @@ from __future__ import annotations
 import math
 import os
 import re
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import camera_rays  # noqa: E402
-import environment_map  # noqa: E402
-import pfm  # noqa: E402
-import textures  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes import environment_map
+from python_prototypes import pfm
+from python_prototypes import textures
 
 CONTROL_BYTES = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")  # all but \t \n \r
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*\Z")
@@ -70,7 +68,7 @@ class SceneCamera:
 
     def as_thin_lens_camera(self):
         """thin_lens.py's camera, which takes the aperture's diameter, not its radius."""
-        import thin_lens
+        from python_prototypes import thin_lens
         return thin_lens.ThinLensCamera(self.eye, self.look, self.up, self.focal_length,
                                         self.sensor_width, 2.0 * self.lens_radius,
                                         self.focus_distance)

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from figure_file import new_figure, save_figure_file
-from pfm import read_pfm
+from python_prototypes.figure_file import new_figure, save_figure_file
+from python_prototypes.pfm import read_pfm
 
 ROOT = Path(__file__).resolve().parent.parent
 PROGRAM = ROOT / "build" / "bin" / "16_glass"

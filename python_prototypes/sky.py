@@ -5,7 +5,7 @@ downloaded) and written as a float32 RGB PFM that Mitsuba 3's `envmap` and our r
 both read.
 
 Orientation: Mitsuba 3's `envmap` at identity to_world (checked against Mitsuba itself
-in tests/python/test_environment_prototypes.py). +y is up; a direction d has
+in tests/python/prototypes/test_environment_prototypes.py). +y is up; a direction d has
 
     u = atan2(d.x, -d.z) / 2π   (wrapped into [0, 1)),   v = acos(d.y) / π
     d = (sin φ sin θ, cos θ, -cos φ sin θ),   φ = 2π u,   θ = π v
@@ -66,12 +66,12 @@ import math
 import sys
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from figure_file import save_figure_file
-from pfm import read_pfm, write_pfm  # noqa: F401  (the maps are PFM files)
+from python_prototypes.figure_file import save_figure_file
+from python_prototypes import srgb
+from python_prototypes.pfm import read_pfm, write_pfm  # noqa: F401  (the maps are PFM files)
 
 
 SUN_ANGULAR_DIAMETER_DEGREES = 0.53
@@ -488,7 +488,7 @@ def tone_map(image, exposure):
     """Reinhard x / (1 + x), then the sRGB curve: for looking at, not for measuring."""
     x = np.maximum(np.asarray(image, dtype=np.float64) * exposure, 0.0)
     x = x / (1.0 + x)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+    return srgb.encode(x)
 
 
 def cap_outline(center, angular_radius, points=181):

@@ -33,15 +33,15 @@ from pathlib import Path
 
 import numpy as np
 
+from python_prototypes import srgb
+
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 JPEG_SIGNATURE = b"\xff\xd8\xff"
 MOST_IMAGE_SIDE = 8192  # common/course/image_read.h's kMostImageSide
 
 
-def srgb_to_linear(encoded):
-    """The sRGB transfer function undone: encoded fractions in [0, 1] -> linear."""
-    c = np.asarray(encoded, dtype=np.float64)
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+# The sRGB transfer function undone: encoded fractions in [0, 1] -> linear.
+srgb_to_linear = srgb.decode
 
 
 def image_problem(path) -> str:

@@ -43,14 +43,12 @@ import argparse
 import math
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from figure_file import save_figure_file  # noqa: E402
-import camera_rays  # noqa: E402
+from python_prototypes.figure_file import save_figure_file
+from python_prototypes import camera_rays
 
 
 @dataclass

@@ -17,7 +17,7 @@
 #                 autograder zip (./course autograder NN), run its setup.sh, then grade
 #                 the released starter and the solution with run_autograder; each
 #                 results.json is checked against Gradescope's format
-#                 (tools/gradescope_results.py): the solution full marks, the starter
+#                 (tools/course_tools/grading/gradescope_results.py): the solution full marks, the starter
 #                 at most 10%
 #   --caches      keep the root's caches between checks, as a learner's machine keeps
 #                 them between runs: its ~/.cache (pip's wheels, the compiler cache,
@@ -246,7 +246,7 @@ with zipfile.ZipFile(sys.argv[1]) as archive:
       solution) expect=(--expect-fraction-at-least 1.0) ;;
       starter) expect=(--expect-fraction-at-most 0.1) ;;
     esac
-    if verdict=$(python3 "$REPO/tools/gradescope_results.py" \
+    if verdict=$(python3 "$REPO/tools/course_tools/grading/gradescope_results.py" \
         "$ROOTFS/autograder/results/results.json" "${expect[@]}" 2>&1); then
       result=passed
     else

@@ -1,23 +1,21 @@
 """The book's list of chapters, from the chapters' manifests (manifests/NN_name.ini,
-tools/manifests.py): the navigation's Chapters and Appendices sections, and the list
+tools/course_tools/manifests.py): the navigation's Chapters and Appendices sections, and the list
 on the front page where index.md says <!-- chapters -->. Adding a chapter is its
 folders, its manifest and its add_chapter() line; nothing here or in mkdocs.yml."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
-import course  # noqa: E402  (chapters(): the add_chapter() lines of CMakeLists.txt)
-import manifests  # noqa: E402
+from course_tools import chapters  # the add_chapter() lines of CMakeLists.txt
+from course_tools import manifests
 
 MARKER = "<!-- chapters -->"
 
 
 def chapter_manifests() -> dict[str, manifests.Manifest]:
-    return manifests.load(ROOT, course.chapters())
+    return manifests.load(ROOT, chapters.names())
 
 
 def on_config(config, **kwargs):

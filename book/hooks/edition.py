@@ -1,4 +1,4 @@
-"""The book's two editions (tools/editions.py). ./course book builds the instructors'
+"""The book's two editions (tools/course_tools/editions/editions.py). ./course book builds the instructors'
 edition: the code as it is, solutions included, and each chapter's answer notes
 (`??? answers` blocks). ./course book --student sets COURSE_BOOK_EDITION=student, and
 this hook turns the same pages into the edition to publish: snippets read a copy of the
@@ -8,13 +8,11 @@ included), the answer notes are left out, and the site goes to book/site-student
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
-import course  # noqa: E402  (tools/course.py: which checkpoint diffs the book shows)
-import editions  # noqa: E402  (tools/editions.py: the student edition's sources)
+from course_tools.cli import commands as course  # book_diff_pairs: which checkpoint diffs the book shows
+from course_tools.editions import editions  # tools/course_tools/editions/editions.py: the student edition's sources
 
 
 def on_config(config):

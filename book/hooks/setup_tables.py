@@ -10,13 +10,11 @@ from __future__ import annotations
 
 import html
 import re
-import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
-import course  # noqa: E402  (tools/course.py: VERB_LAYERS, which verb needs which layer)
-import platforms  # noqa: E402  (tools/platforms.py: standard library only)
+from course_tools.cli import verbs  # VERB_LAYERS: which verb needs which layer
+from course_tools.setup import platforms  # tools/course_tools/setup/platforms.py: standard library only
 
 GENERATED = ROOT / "book" / "docs" / "generated"
 REQUIREMENTS = ROOT / "requirements"
@@ -86,11 +84,11 @@ def pinned(layer: str) -> list[tuple[str, str]]:
 
 
 def layers_table() -> str:
-    verbs = {layer: [f"`{verb}`" for verb, needs in course.VERB_LAYERS.items()
+    verbs = {layer: [f"`{verb}`" for verb, needs in verbs.VERB_LAYERS.items()
                      if needs == layer and verb != "setup"] for layer in platforms.LAYERS}
     lines = [
-        "<!-- Written by book/hooks/setup_tables.py from tools/course.py, "
-        "tools/platforms.py and requirements/: edit those. -->",
+        "<!-- Written by book/hooks/setup_tables.py from tools/course_tools/cli/verbs.py, "
+        "tools/course_tools/setup/platforms.py and requirements/: edit those. -->",
         "",
         "| layer | set up by `./course` | builds on | Python packages it adds |",
         "|---|---|---|---|",

@@ -9,13 +9,11 @@ round and the horizon above the middle (the camera looks slightly down).
 """
 
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import camera_rays  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes import srgb
 
 
 def directions_with_sensor(camera, width, height, sensor_height):
@@ -41,8 +39,7 @@ def panels(camera, width, height):
 
 def srgb(linear):
     """Encode linear colours as the chapter's PNG files are, so the panels look alike."""
-    x = np.clip(linear, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return srgb.encode(linear)
 
 
 def draw(path, width, height):

@@ -48,9 +48,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import camera_rays  # noqa: E402
-import obj_io  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes import obj_io
+from python_prototypes import srgb
 
 FOCAL_LENGTH = 0.035
 SENSOR_WIDTH = 0.036
@@ -326,9 +326,7 @@ def render_mesh(positions, tri_pos_idx, normals=None, tri_nrm_idx=None, width=16
 
 def srgb_8bit(linear: np.ndarray) -> np.ndarray:
     """The sRGB transfer function and rounding to 8 bits, as a PNG viewer expects."""
-    x = np.clip(linear, 0.0, 1.0)
-    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return np.round(encoded * 255.0).astype(np.uint8)
+    return srgb.encode_8bit(linear).astype(np.uint8)
 
 
 def write_png(path: Path, image: np.ndarray):

@@ -16,9 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import obj_io  # noqa: E402
-from reference import mesh_scene  # noqa: E402
+from python_prototypes import obj_io
+from python_prototypes.reference import mesh_scene
 
 
 def panels(obj_path, width, height):

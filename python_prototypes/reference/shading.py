@@ -10,14 +10,11 @@ image checks fail.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import camera_rays  # noqa: E402
-from reference.spheres import sky, sphere_distances  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes.reference.spheres import sky, sphere_distances
 
 AMBIENT = 0.1
 SHADOW_OFFSET = 1e-3

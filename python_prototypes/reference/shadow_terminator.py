@@ -21,9 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import obj_io  # noqa: E402
-from reference import mesh_scene  # noqa: E402
+from python_prototypes import obj_io
+from python_prototypes.reference import mesh_scene
 
 WIDTH, HEIGHT = 640, 480          # the picture the detail is cut from
 WINDOW = (180, 200, 400, 365)     # left, top, right, bottom: the teapot's dark side

@@ -9,13 +9,10 @@ checks fail.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import camera_rays  # noqa: E402
+from python_prototypes import camera_rays
 
 # name: [(centre, radius), ...] in the order the chapter lists them.
 SCENES = {

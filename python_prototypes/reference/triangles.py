@@ -10,15 +10,12 @@ checks fail.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-import camera_rays  # noqa: E402
-from reference.shading import SHADOW_OFFSET, shade  # noqa: E402
-from reference.spheres import sky, sphere_distances  # noqa: E402
+from python_prototypes import camera_rays
+from python_prototypes.reference.shading import SHADOW_OFFSET, shade
+from python_prototypes.reference.spheres import sky, sphere_distances
 
 FLOOR_ALBEDO = (0.75, 0.75, 0.75)
 PYRAMID_ALBEDO = (0.85, 0.8, 0.7)

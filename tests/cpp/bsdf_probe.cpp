@@ -1,4 +1,4 @@
-// A chapter's BSDF code on the GPU, for the Python checks (tests/python/test_15_metals.py):
+// A chapter's BSDF code on the GPU, for the Python checks (tests/python/chapters/test_15_metals.py):
 //
 //   bsdf_probe SHADER_DIR PROBE_SHADER QUERIES ANSWERS [--buffer BINDING FILE]...
 //

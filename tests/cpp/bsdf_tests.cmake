@@ -1,5 +1,5 @@
 # The BSDF probe of chapter 15 on: not a GoogleTest, a program that the Python checks
-# (tests/python/test_15_metals.py) run on a chapter's shaders, or on a copy of them
+# (tests/python/chapters/test_15_metals.py) run on a chapter's shaders, or on a copy of them
 # with a planted bug, and compare with python_prototypes/microfacet.py. Included from
 # tests/cpp/CMakeLists.txt.
 add_executable(bsdf_probe bsdf_probe.cpp)

@@ -19,10 +19,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from python_prototypes.pfm import read_pfm  # noqa: F401  (the checks import it from here)
+from python_prototypes.srgb import encode_8bit as srgb_encode_8bit  # noqa: F401
+
 ROOT = Path(__file__).resolve().parents[2]
 # COURSE_BIN_DIR: another build of the chapters (./course test --sanitize uses it).
 BIN = Path(os.environ.get("COURSE_BIN_DIR", ROOT / "build" / "bin"))
-sys.path.insert(0, str(ROOT / "python_prototypes"))
 
 # The suite's clock: progress on stderr, and each check's time for the next estimate.
 pytest_plugins = ["suite_clock"]
@@ -170,25 +172,6 @@ def read_image(path: Path) -> np.ndarray:
     return np.asarray(Image.open(path).convert("RGB"), dtype=np.float64)
 
 
-def read_pfm(path: Path) -> np.ndarray:
-    """PFM: 'PF', 'width height', scale (negative: little-endian), bottom row first."""
-    data = Path(path).read_bytes()
-    header = data.split(b"\n", 3)
-    assert header[0] == b"PF", f"{path}: not an RGB PFM"
-    width, height = map(int, header[1].split())
-    scale = float(header[2])
-    dtype = "<f4" if scale < 0 else ">f4"
-    pixels = np.frombuffer(header[3], dtype=dtype, count=width * height * 3)
-    return pixels.reshape(height, width, 3)[::-1].astype(np.float64)
-
-
-def srgb_encode_8bit(linear: np.ndarray) -> np.ndarray:
-    """The sRGB transfer function and rounding to 8 bits, as a PNG viewer expects."""
-    x = np.clip(np.nan_to_num(linear), 0.0, 1.0)
-    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return np.round(encoded * 255.0)
-
-
 def assert_images_agree(image: np.ndarray, reference: np.ndarray, *, within: float = 2.0,
                         fraction: float = 0.995, mean_below: float = 0.5, label: str = ""):
     """The course's image check for 8-bit images (book/docs/maintainers.md): at least
@@ -229,7 +212,7 @@ def region_standard_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     difference of the means is to be measured against (the ratio estimator's standard
     error). Where a few pixels carry most of the region's light, though, the ratio is
     theirs and their own noise cancels out of the spread; there the plain difference's
-    spread is kept, which errs on the wide side (tests/python/test_regions_agreeing.py
+    spread is kept, which errs on the wide side (tests/python/prototypes/test_regions_agreeing.py
     shows both)."""
     n = len(a)
     brightness = (a + b).mean(axis=-1)
@@ -253,8 +236,8 @@ def regions_agreeing(a: np.ndarray, b: np.ndarray, scene_file: Path,
     averaged) by less than that fraction of b's. Regions of fewer than 20 pixels have no
     useful spread and are left out. Returns the regions compared, for the caller to
     check."""
-    import mitsuba_reference
-    import scene_io
+    from python_prototypes import mitsuba_reference
+    from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     masks = mitsuba_reference.region_masks(scene, a.shape[1], a.shape[0])
     means_a = mitsuba_reference.region_means(a, masks)

@@ -1,4 +1,4 @@
-"""Two catalogues of submissions for the statistical grading (tools/grading_statistics.py):
+"""Two catalogues of submissions for the statistical grading (tools/course_tools/grading/grading_statistics.py):
 correct implementations that differ from the solution (other random numbers, another
 valid mapping or weighting), which must each score at least 90%, and plausible wrong
 ones, which must each score at most half. Each is a few find-and-replace edits on a copy

@@ -2,7 +2,7 @@
 
 Numbers. A page marks a measured number `<!-- number NAME -->0.4241<!-- /number -->`;
 the check that measures it calls `record(NAME, "0.4241")`, which writes the file
-`./course test --update-book` copies into the page (tools/measured_pages.py), and
+`./course test --update-book` copies into the page (tools/course_tools/cli/measured_pages.py), and
 test_book checks that every marked number is recorded by a check.
 
 Directions. A page that says which way a planted bug moves the picture ("too dark", "brighter")
@@ -21,13 +21,11 @@ from __future__ import annotations
 import functools
 import math
 import re
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
-import measured_pages  # noqa: E402
+from course_tools.cli import measured_pages
 
 PAGES = ROOT / "book" / "docs"
 ARTIFACTS = ROOT / "build" / "test-artifacts"

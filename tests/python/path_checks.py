@@ -19,7 +19,6 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -27,9 +26,8 @@ import pytest
 
 from conftest import ROOT, chapter_name, copy_shaders, read_pfm, regions_agreeing, run_chapter
 
-sys.path.insert(0, str(ROOT / "tools"))
-import grader  # noqa: E402
-import reference_cache  # noqa: E402
+from course_tools.grading import grader
+from course_tools import reference_cache
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
@@ -62,7 +60,7 @@ def kept_render_key(chapter: str, arguments: list[str], out: Path) -> str:
     other files beside it (the meshes and textures a scene names), but never the
     output."""
     parts = [grader.reference_maker(ROOT, ROOT / "build", chapter_name(chapter)),
-             reference_cache.tree_digest(ROOT / "tests" / "data")]
+             reference_cache.tree_digest(ROOT / "tests" / "data", scenes_as_read=True)]
     for argument in arguments:
         path = Path(argument)
         if path.is_dir():
@@ -136,8 +134,8 @@ def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
     light, at least 20) within SIGMAS standard errors of Mitsuba 3's render at `spp`,
     and within most_relative of its brightness if given. Returns the regions compared."""
     pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
+    from python_prototypes import mitsuba_reference
+    from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     height, width = ours.shape[:2]
     theirs = kept_mitsuba(scene, width, height, spp, 6, seed=0, variant="scalar_rgb")
@@ -168,13 +166,13 @@ def scene_fingerprint(value) -> str:
 def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,
                  variant: str = "scalar_rgb") -> np.ndarray:
     """Mitsuba 3's render (mitsuba_reference.render_mitsuba: linear RGB, row 0 at the
-    top), kept in the per-user reference cache (tools/reference_cache.py) under what
+    top), kept in the per-user reference cache (tools/course_tools/reference_cache.py) under what
     makes it: the scene with its files' bytes, the size, samples, depth, seed, variant,
     Mitsuba's and Dr.Jit's versions, the cores, and the prototypes that translate it."""
     pytest.importorskip("mitsuba")
     import drjit
     import mitsuba
-    import mitsuba_reference
+    from python_prototypes import mitsuba_reference
     name = reference_cache.key(
         "mitsuba render", mitsuba.__version__, drjit.__version__, variant, width, height,
         spp, bounces, seed, os.cpu_count(), scene_fingerprint(scene),
@@ -198,8 +196,8 @@ def close_up(scene_file: Path, name: str, folder: Path, size: int, mesh_folders=
     pixels. The picture is `size` pixels across its longer side, shaped like the object
     (square for a sphere). Returns the new scene file, written into `folder` (mesh paths
     made absolute, so that it loads from there), and the picture's width and height."""
-    import obj_io
-    import scene_io
+    from python_prototypes import obj_io
+    from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     eye = np.asarray(scene.camera.eye, dtype=np.float64)
     sphere = next((s for s in scene.spheres if s.name == name), None)
@@ -256,8 +254,8 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
     RGB averaged; the error is the spread of ours - ratio x theirs, which a picture only
     too dark or too bright (ours = ratio x theirs) does not widen."""
     pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
+    from python_prototypes import mitsuba_reference
+    from python_prototypes import scene_io
     folders = [str(f) for f in mesh_folders]
     close, width, height = close_up(scene_file, name, tmp_path, size, mesh_folders)
     ours = path_trace(chapter, tmp_path, f"close_up_{name}", "--scene", close, "--width",
@@ -276,8 +274,8 @@ def mitsuba_regions(scene_file: Path, spp: int, size: int, mesh_folders=()):
     (image (size, size, 3), {region: mask}, scene_file), what assert_regions_within_two_percent
     compares a chapter's render with."""
     pytest.importorskip("mitsuba")
-    import mitsuba_reference
-    import scene_io
+    from python_prototypes import mitsuba_reference
+    from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     image = kept_mitsuba(scene, size, size, spp, 6, seed=0)
     return (image,
@@ -312,8 +310,8 @@ def brightness_difference(ours: np.ndarray, theirs: np.ndarray):
 
 def named_region(image: np.ndarray, scene_file: Path, name: str):
     """(the pixels that see only the shape called `name`, the scene), at the image's size."""
-    import mitsuba_reference
-    import scene_io
+    from python_prototypes import mitsuba_reference
+    from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [])
     return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
 

@@ -17,16 +17,13 @@ from pathlib import Path
 
 import pytest
 
+from course_tools.cli.suite_parts import minutes
+
 ARTIFACTS = Path(__file__).resolve().parents[2] / "build" / "test-artifacts"
 DURATIONS = ARTIFACTS / "check-durations.json"  # every check's last time: the estimate
 THIS_RUN = ARTIFACTS / "check-durations-this-run.json"  # this run's checks alone
 EVERY_SECONDS = 30.0  # at most one progress line this often
 SMALLEST_RUN_KEPT = 20  # a run of fewer checks leaves the last estimate as it was
-
-
-def minutes(seconds: float) -> str:
-    seconds = max(0, int(round(seconds)))
-    return f"{seconds // 60}:{seconds % 60:02d}"
 
 
 def read_durations(path: Path = DURATIONS) -> dict[str, float]:

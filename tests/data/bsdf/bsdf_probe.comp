@@ -1,6 +1,6 @@
 #version 430
 // Runs a chapter's microfacet.glsl (chapter 15 on) for a list of queries, so that
-// tests/python/test_15_metals.py can compare every answer with
+// tests/python/chapters/test_15_metals.py can compare every answer with
 // python_prototypes/microfacet.py. Loaded by tests/cpp/bsdf_probe.cpp with the
 // chapter's shader folder as the base, so the include below resolves there.
 const float PI = 3.14159265358979;

@@ -1,6 +1,6 @@
 #version 430
 // Runs a chapter's dielectric.glsl (chapter 16 on) for a list of queries, so that
-// tests/python/test_16_glass.py can compare every answer with
+// tests/python/chapters/test_16_glass.py can compare every answer with
 // python_prototypes/microfacet.py. Loaded by tests/cpp/bsdf_probe.cpp as
 // bsdf_probe.comp is: the same query and answer sizes, other meanings.
 const float PI = 3.14159265358979;

@@ -1,6 +1,6 @@
 #version 430
 // Runs a chapter's environment light (environment.glsl, chapter 18 on) for a list of
-// queries, so that tests/python/test_18_environment_sampling.py can compare it with
+// queries, so that tests/python/chapters/test_18_environment_sampling.py can compare it with
 // python_prototypes/environment_sampling.py: for each query, the direction and pdf
 // sampleEnvironment draws from two uniform numbers, and environmentPdf and
 // environmentRadiance along a given direction. Run by tests/cpp/bsdf_probe.cpp (20

@@ -1,6 +1,6 @@
 #version 430
 // Runs a chapter's primaryRay (camera.glsl, chapter 17 on) for a list of queries, so
-// that tests/python/test_17_lens_textures.py can compare every ray with
+// that tests/python/chapters/test_17_lens_textures.py can compare every ray with
 // python_prototypes/thin_lens.py and look at where the rays leave the lens. Run by
 // tests/cpp/bsdf_probe.cpp (20 floats a query, 24 an answer) with the chapter's shader
 // folder as the base, so the includes below resolve there.

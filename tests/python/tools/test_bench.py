@@ -1,0 +1,366 @@
+"""./course bench (tools/bench*.py) at a tiny size: each figure is the median of repeated
+runs with their range, the report names the machine and says whether it was quiet,
+and the book's page changes only when --update-book asks. No check here depends on how
+fast anything ran: only on the report's shape."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[3]
+BIN = ROOT / "build" / "bin"
+from course_tools.bench import mitsuba as bench
+from course_tools.bench import bvh as bench_bvh
+from course_tools.bench import common as bench_common
+from course_tools.bench import grading as bench_grading
+
+TINY = bench.Settings(size=32, spp=2, depth=3, repeat=2)  # 32²: every scene has regions
+SUMMARY_KEYS = {"median", "min", "max", "spread", "runs"}
+
+
+def chapters_built() -> list[str]:
+    text = (ROOT / "CMakeLists.txt").read_text()
+    import re
+    return re.findall(r"^add_chapter\((\w+)\)", text, flags=re.M)
+
+
+def tiny_scenes() -> list[bench.Scene]:
+    with_bvh = bench.newest_chapter_with_bvh(chapters_built())
+    binaries = [BIN / "12_light_sampling", BIN / with_bvh]
+    for program in binaries:
+        if not program.exists():
+            pytest.skip(f"{program.name} is not built")
+    return [bench.Scene("cornell_box", "Cornell box", binaries[0]),
+            bench.Scene("cornell_teapot", "teapot", binaries[1])]
+
+
+def copy_of_the_page(tmp_path: Path) -> Path:
+    page = tmp_path / "benchmarks.md"
+    page.write_text(bench.PAGE.read_text())
+    return page
+
+
+# ---------------------------------------------------------------- the pieces
+
+def test_versions_come_from_the_gl_strings():
+    assert bench_common.llvm_version("llvmpipe (LLVM 15.0.6, 256 bits)") == "15.0.6"
+    assert bench_common.mesa_version("4.5 (Core Profile) Mesa 22.3.6") == "22.3.6"
+    assert bench_common.mesa_version("4.6.0 NVIDIA 550.54") is None
+    assert bench_common.llvm_version("NVIDIA GeForce RTX 3060/PCIe/SSE2") is None
+
+
+def test_a_summary_is_the_median_and_the_range():
+    summary = bench_common.summarise([3.0, 1.0, 2.0])
+    assert (summary["median"], summary["min"], summary["max"]) == (2.0, 1.0, 3.0)
+    assert summary["spread"] == pytest.approx(1.0)  # (3 - 1) / 2
+    assert summary["runs"] == [3.0, 1.0, 2.0]
+    assert bench_common.spread_words(summary) == "1–3 (100%)"
+
+
+def test_a_busy_machine_is_named_loudly():
+    assert bench_common.is_quiet(0.5, 0.1, cores=2)
+    assert not bench_common.is_quiet(0.7, 0.1, cores=2)  # the load at the start
+    assert not bench_common.is_quiet(0.1, 0.9, cores=2)  # others' work while it ran
+    busy = {"cores": 2, "load_start": 3.0, "load_end": 2.5,
+            "other_processes_cores": 1.2, "quiet": False}
+    assert "NOT quiet" in bench_common.quiet_words(busy)
+    assert "NOT" not in bench_common.quiet_words({**busy, "quiet": True})
+
+
+def test_the_teapot_goes_through_the_newest_chapter_with_a_bvh():
+    names = chapters_built()
+    chosen = bench.newest_chapter_with_bvh(names)
+    has_bvh = ["--brute-force" in (ROOT / "chapters" / n / "main.cpp").read_text()
+               for n in names if n[:2].isdigit()]
+    numbered = [n for n in names if n[:2].isdigit()]
+    assert has_bvh[numbered.index(chosen)]
+    assert not any(has_bvh[numbered.index(chosen) + 1:])
+
+
+def test_a_table_goes_into_the_page_only_when_asked(tmp_path):
+    page = copy_of_the_page(tmp_path)
+    before = page.read_text()
+    bench_common.book_or_not(False, page, bench.START, bench.END, "NEW TABLE")
+    assert page.read_text() == before
+    bench_common.book_or_not(True, page, bench.START, bench.END, "NEW TABLE")
+    head, _ = before.split(bench.START, 1)
+    _, tail = before.split(bench.END, 1)
+    assert page.read_text() == f"{head}{bench.START}\nNEW TABLE\n{bench.END}{tail}"
+
+
+MACHINE = {"cpu": "Some CPU", "cores": 2, "gl_renderer": "llvmpipe (LLVM 15.0.6, 256 bits)",
+           "gl_version": "4.5 (Core Profile) Mesa 22.3.6", "mesa": "22.3.6",
+           "llvm": "15.0.6", "mitsuba": "3.9.1"}
+QUIET = {"cores": 2, "load_start": 0.1, "load_end": 1.9, "other_processes_cores": 0.05,
+         "quiet": True}
+
+
+def test_the_bvh_table_gives_medians_and_names_the_machine():
+    spread = bench_common.summarise([90.0, 100.0, 110.0])
+    report = {"date": "today", "machine": MACHINE, "title": MACHINE["gl_renderer"],
+              "size": 96, "repeat": 3, "loop_limit": "65 535", "skipped": [], "quiet": QUIET,
+              "builds": {}, "results": [
+                  {"triangles": t, "rays": rays, "method": "bvh",
+                   "rays_per_second": spread["median"], "spread": spread}
+                  for t in bench_bvh.TEAPOTS for rays in ("primary", "diffuse")]}
+    table = bench_bvh.page_table(report)
+    assert "median of 3 runs" in table and "20% of its median" in table
+    assert "Mesa 22.3.6 with LLVM 15.0.6" in table and "Some CPU (2 cores)" in table
+    assert "The machine was quiet" in table
+
+
+def test_the_grading_table_gives_medians_and_ranges():
+    report = {"date": "today", "cpu": "Some CPU", "cores": 2, "repeat": 3,
+              "gl_renderer": MACHINE["gl_renderer"], "gl_version": MACHINE["gl_version"],
+              "quiet": {**QUIET, "quiet": False},
+              "chapters": [{"chapter": "12_light_sampling", "tests": 4, "runs": 9,
+                            "seconds": 30.0, "peak_mib": 200,
+                            "spread": bench_common.summarise([29.0, 30.0, 33.0])}]}
+    table = bench_grading.page_table(report)
+    assert "median of 3" in table and "29.0–33.0 (13%)" in table
+    assert "NOT quiet" in table
+
+
+def test_the_help_names_update_book_and_repeat():
+    result = subprocess.run([sys.executable, str(ROOT / "tools" / "course.py"), "bench",
+                             "--help"], capture_output=True, text=True, check=True)
+    assert "--update-book" in result.stdout and "--repeat" in result.stdout
+    assert "median" in result.stdout
+
+
+# ---------------------------------------------------------------- the bench itself, tiny
+
+@pytest.fixture(scope="module")
+def tiny_bench(tmp_path_factory):
+    """One tiny bench against Mitsuba without --update-book, on a copy of the page."""
+    pytest.importorskip("mitsuba", reason="pip install -r requirements.txt")
+    folder = tmp_path_factory.mktemp("bench")
+    page = copy_of_the_page(folder)
+    book_before = bench.PAGE.read_text()
+    page_before = page.read_text()
+    status = bench.main(tiny_scenes(), TINY, update_book=False, page=page,
+                        out_folder=folder / "out")
+    report = json.loads((folder / "out" / "bench.json").read_text())
+    return {"status": status, "report": report, "page": page, "page_before": page_before,
+            "book_before": book_before}
+
+
+def test_without_update_book_no_page_changes(tiny_bench):
+    assert tiny_bench["page"].read_text() == tiny_bench["page_before"]
+    assert bench.PAGE.read_text() == tiny_bench["book_before"]
+    assert tiny_bench["status"] in (0, 1)  # 2 spp: the 1% check may well miss
+
+
+def test_the_report_names_the_machine(tiny_bench):
+    report = tiny_bench["report"]
+    machine = report["machine"]
+    for key in ("cpu", "cores", "gl_renderer", "gl_version", "mesa", "mitsuba"):
+        assert machine[key], key
+    assert "llvm" in machine  # None on a GPU
+    assert machine["mitsuba"] == bench_common.mitsuba_version()
+    assert report["date"]
+    quiet = report["quiet"]
+    assert {"load_start", "load_end", "quiet"} <= quiet.keys()
+    assert isinstance(quiet["quiet"], bool)
+    table = bench.page_table(report)
+    assert machine["cpu"] in table and f"Mitsuba {machine['mitsuba']}" in table
+    if machine["mesa"]:
+        assert f"Mesa {machine['mesa']}" in table
+
+
+def test_every_figure_is_a_median_of_the_runs(tiny_bench):
+    report = tiny_bench["report"]
+    assert report["settings"] == {"size": 32, "spp": 2, "depth": 3, "mitsuba_max_depth": 4,
+                                  "repeat": 2}
+    assert set(report["scenes"]) == {"cornell_box", "cornell_teapot"}
+    for scene in report["scenes"].values():
+        renderers = scene["renderers"]
+        assert "ours" in renderers and len(renderers) >= 2, "Mitsuba ran no variant"
+        for name, figures in renderers.items():
+            for figure, summary in figures.items():
+                assert SUMMARY_KEYS <= summary.keys(), (name, figure)
+                assert len(summary["runs"]) == TINY.repeat
+                assert summary["min"] <= summary["median"] <= summary["max"]
+        assert "rays_per_second" in renderers["ours"]
+        for variant, ratio in scene["ratios"].items():
+            assert ratio["of_medians"] == pytest.approx(
+                renderers[variant]["samples_per_second"]["median"]
+                / renderers["ours"]["samples_per_second"]["median"])
+            assert len(ratio["per_run"]["runs"]) == TINY.repeat
+
+
+def test_the_region_check_is_kept(tiny_bench):
+    for scene in tiny_bench["report"]["scenes"].values():
+        assert scene["region_reference"] in bench.VARIANTS
+        assert scene["regions"], scene["title"]
+        for row in scene["regions"].values():
+            assert {"pixels", "ours", "mitsuba", "relative", "relative_error"} <= row.keys()
+    assert "teapot" in tiny_bench["report"]["scenes"]["cornell_teapot"]["regions"]
+    table = bench.page_table(tiny_bench["report"])
+    assert "| teapot | teapot |" in table and "| Cornell box | back |" in table
+
+
+def test_update_book_writes_the_table_into_the_page(tmp_path):
+    pytest.importorskip("mitsuba", reason="pip install -r requirements.txt")
+    page = copy_of_the_page(tmp_path)
+    before = page.read_text()
+    bench.main(tiny_scenes()[:1], bench.Settings(size=16, spp=1, depth=2, repeat=2),
+               update_book=True, page=page, out_folder=tmp_path / "out",
+               variants=("scalar_rgb",))
+    report = json.loads((tmp_path / "out" / "bench.json").read_text())
+    head, _ = before.split(bench.START, 1)
+    _, tail = before.split(bench.END, 1)
+    assert page.read_text() == \
+        f"{head}{bench.START}\n{bench.page_table(report)}\n{bench.END}{tail}"
+    assert "median of 2 runs" in page.read_text()
+
+
+@pytest.fixture
+def tiny_bvh_bench(monkeypatch, tmp_path):
+    """bench_bvh.main on the smallest teapot at 16², its scratch folder in tmp_path."""
+    program = BIN / "14_bvh_sah"
+    if not program.exists():
+        pytest.skip("14_bvh_sah is not built")
+    monkeypatch.setattr(bench_bvh, "TEAPOTS", (552,))
+    monkeypatch.setattr(bench_bvh, "SIZE", 16)
+    monkeypatch.setattr(bench_bvh, "SCRATCH", tmp_path / "scratch")
+    page, figure = copy_of_the_page(tmp_path), tmp_path / "bvh_scaling.png"
+
+    def run(update_book: bool) -> dict:
+        bench_bvh.main(program, ROOT / "build" / "assets" / "meshes", repeat=2,
+                       update_book=update_book, page=page, figure=figure)
+        return json.loads((tmp_path / "scratch" / "bvh.json").read_text())
+    return run, page, figure
+
+
+def test_the_bvh_bench_repeats_and_writes_the_book_only_when_asked(tiny_bvh_bench):
+    run, page, figure = tiny_bvh_bench
+    before = page.read_text()
+    report = run(update_book=False)
+    assert page.read_text() == before and not figure.exists()
+    assert report["repeat"] == 2 and report["machine"]["gl_renderer"]
+    assert "load_start" in report["quiet"]
+    for record in report["results"]:
+        assert len(record["spread"]["runs"]) == 2
+        assert record["rays_per_second"] == record["spread"]["median"]
+    report = run(update_book=True)
+    assert figure.exists()
+    assert bench_bvh.page_table(report) in page.read_text()
+    head, _ = before.split(bench_bvh.START, 1)
+    _, tail = before.split(bench_bvh.END, 1)
+    assert page.read_text().startswith(head) and page.read_text().endswith(tail)
+
+
+# ---------------------------------------------------------------- chapter 19's speed bench
+
+@pytest.fixture(scope="module")
+def tiny_speed_bench(tmp_path_factory):
+    """bench_speed with three of its rows and two compile rows, tiny, twice over: once
+    without --update-book (on a copy of the chapter's page), once with."""
+    from course_tools.bench import speed as bench_speed
+    binaries = {"18": BIN / "18_environment", "19": BIN / "19_speed"}
+    for program in binaries.values():
+        if not program.exists():
+            pytest.skip(f"{program.name} is not built")
+    rows = [row for row in bench_speed.ROWS if row.scene == "cornell_box" and
+            row.label in ("chapter 18", "buffer textures", "constants, written out",
+                          "storage buffers", "uniform blocks",
+                          "generic shader, storage buffers")]
+    compiled = [row for row in bench_speed.COMPILED if row.scene == "cornell_box" and
+                row.label in ("buffer textures", "chapter 18")]
+    folder = tmp_path_factory.mktemp("speed")
+    page = folder / "19_speed.md"
+    page.write_text(bench_speed.PAGE.read_text())
+    book_before, page_before = bench_speed.PAGE.read_text(), page.read_text()
+    settings = bench_speed.Settings(size=16, spp=1, depth=2, repeat=2)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bench_speed, "ROWS", tuple(rows))
+        patch.setattr(bench_speed, "COMPILED", compiled)
+        bench_speed.main(binaries, settings, update_book=False, page=page,
+                         out_folder=folder / "out")
+        unchanged = page.read_text() == page_before
+        bench_speed.main(binaries, settings, update_book=True, page=page,
+                         out_folder=folder / "out")
+    return {"report": json.loads((folder / "out" / "speed.json").read_text()),
+            "unchanged": unchanged, "page": page.read_text(),
+            "book_unchanged": bench_speed.PAGE.read_text() == book_before}
+
+
+def test_the_speed_bench_gives_medians_of_the_runs(tiny_speed_bench):
+    report = tiny_speed_bench["report"]
+    assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
+    for row in report["rows"].values():
+        for figure in ("samples_per_second", "rays_per_second"):
+            assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
+            assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
+    assert len(report["compile_seconds"]) == 2
+    automatic = [row["label"] for row in report["rows"].values() if row["chapter"] == "18"]
+    assert automatic == ["chapter 18"]
+
+
+def test_the_speed_bench_writes_its_page_only_when_asked(tiny_speed_bench):
+    assert tiny_speed_bench["unchanged"] and tiny_speed_bench["book_unchanged"]
+    page = tiny_speed_bench["page"]
+    assert "Each figure is the median of 2 runs" in page
+    assert "| cornell_box | constants, written out |" in page
+    assert "| storage buffers ÷ buffer textures |" in page
+
+
+# ---------------------------------------------------------------- chapter 20's wavefront bench
+
+@pytest.fixture(scope="module")
+def tiny_wavefront_bench(tmp_path_factory):
+    """bench_wavefront with the Cornell box's rows, tiny, twice over: once without
+    --update-book (on a copy of the chapter's page), once with."""
+    from course_tools.bench import wavefront as bench_wavefront
+    program = BIN / "20_wavefront"
+    assert program.exists(), f"{program.name} is not built"
+    rows = tuple(bench_wavefront.Row(table, "cornell_box", kernel, size)
+                 for table, size in (("scenes", 16), ("sizes", 24))
+                 for kernel in bench_wavefront.KERNELS)
+    folder = tmp_path_factory.mktemp("wavefront")
+    page = folder / "20_wavefront.md"
+    page.write_text(bench_wavefront.PAGE.read_text())
+    book_before, page_before = bench_wavefront.PAGE.read_text(), page.read_text()
+    settings = bench_wavefront.Settings(spp=2, depth=2, repeat=2)  # 2 a dispatch
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bench_wavefront, "ROWS", rows)
+        patch.setattr(bench_wavefront, "SCENES", (("cornell_box", "1: diffuse"),))
+        bench_wavefront.main(program, settings, update_book=False, page=page,
+                             out_folder=folder / "out")
+        unchanged = page.read_text() == page_before
+        bench_wavefront.main(program, settings, update_book=True, page=page,
+                             out_folder=folder / "out")
+    return {"report": json.loads((folder / "out" / "wavefront.json").read_text()),
+            "unchanged": unchanged, "page": page.read_text(),
+            "book_unchanged": bench_wavefront.PAGE.read_text() == book_before}
+
+
+def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
+    report = tiny_wavefront_bench["report"]
+    assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
+    assert {row["kernel"] for row in report["rows"].values()} == {
+        "megakernel", "regenerating", "wavefront"}
+    dispatches = {row["kernel"]: row["samples_per_dispatch"] for row in report["rows"].values()}
+    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1}
+    for row in report["rows"].values():
+        for figure in ("samples_per_second", "rays_per_second"):
+            assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
+            assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
+
+
+def test_the_wavefront_bench_writes_its_page_only_when_asked(tiny_wavefront_bench):
+    assert tiny_wavefront_bench["unchanged"] and tiny_wavefront_bench["book_unchanged"]
+    page = tiny_wavefront_bench["page"]
+    assert "Each figure is the median of 2 runs" in page
+    assert "| cornell_box | 1: diffuse | wavefront | 1 |" in page
+    assert "| cornell_box | 24² | megakernel | 1 |" in page
+    assert "| cornell_box | 24² | regenerating | 2 |" in page
+    assert ("| samples/s ÷ megakernel's, 16² | regenerating: this machine | "
+            "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") in page
+    assert "| cornell_box (1: diffuse) |" in page

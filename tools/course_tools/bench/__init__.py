@@ -1,0 +1,1 @@
+"""Benchmarks: the course against Mitsuba 3, and its chapters against each other."""

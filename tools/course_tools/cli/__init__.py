@@ -1,0 +1,1 @@
+"""The command line of ./course: the verbs, the suite, the book."""

@@ -1,0 +1,1 @@
+"""Editions: solution markers, the student edition, starter releases, autograder zips."""

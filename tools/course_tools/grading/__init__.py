@@ -1,0 +1,1 @@
+"""Grading a submission: the grader, its statistical tests, its sandbox."""

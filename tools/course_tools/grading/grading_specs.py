@@ -1,0 +1,344 @@
+"""What the autograder runs for each chapter: named tests with points, the chapter's
+command-line arguments, and whether students see the result before the deadline
+('visible') or only after it ('after_due_date', Gradescope's hidden tests).
+
+kind 'image': the submission's PNG is compared with the solution's for the same args
+  (for deterministic pictures: the same arguments give one right picture).
+kind 'check': the program checks itself; it must exit 0 and print `expect`.
+kind 'statistical': for random pictures. The submission renders the args several times
+  at its own seeds (`sampling`); each region's mean must agree with the solution's
+  many-sample render in a z-test with the submission's own noise
+  (tools/course_tools/grading/grading_statistics.py), so any correct estimator passes, whatever its noise.
+kind 'traversal': chapter 13's tree: the solution's nearest hits, and about its work.
+
+Points: a plausible wrong implementation should lose at least half, a correct one
+nothing, so each chapter's tests weigh what they catch
+(tests/python/tools/test_grading_statistics.py grades catalogues of both)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """How a 'statistical' test samples: the submission's `runs` renders of `spp`
+    samples each (at seeds 1, 2, ...) against the solution's `reference_runs` renders
+    of `reference_spp` (at other seeds, made once and kept)."""
+    runs: int = 8
+    spp: int = 64
+    reference_runs: int = 4
+    reference_spp: int = 1024
+
+
+@dataclass
+class GradeTest:
+    name: str
+    max_score: float
+    args: list[str] = field(default_factory=list)
+    kind: str = "image"
+    visibility: str = "visible"
+    expect: str = ""
+    sampling: Sampling | None = None  # kind 'statistical' only
+    # Files the arguments name, from the build's generated assets (build/assets): the
+    # grader puts a copy of each in the folder the program runs in, the submission's
+    # and the reference's alike, so that `--obj gem_octahedron.obj` finds it there.
+    inputs: tuple[str, ...] = ()
+
+    @property
+    def slug(self) -> str:
+        return re.sub(r"[^a-z0-9]+", "_", self.name.lower()).strip("_")
+
+
+SMALL = ["--width", "96", "--height", "72"]
+ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
+TINY = ["--width", "32", "--height", "32"]  # statistical tests: many small runs
+WAVEFRONT = ["--kernel", "wavefront"]  # chapter 20: the kernels over queues
+TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two sizes
+PLATES = ["--scene", "glossy_plates"]  # assets/scenes: four rough metals, four lamps
+# Samples of the statistical tests (tools/course_tools/grading/grading_statistics.py): the submission's 8
+# runs at its own seeds against the solution's 4 runs of many samples (and 8 of the
+# submission's samples, for its noise). A path tracer's references take 8 times the
+# submission's samples in all, which leaves them an eighth of its variance: a z-score 6%
+# below an exact reference's. (At 4 times, 11%: a wrong chapter-15 variant, Smith's
+# Lambda with alpha for alpha squared, then passed; measured 2026-12-02.) The other
+# pictures' references take 4 times: their wrong variants still fail, and references are
+# most of the time a chapter's first grading takes.
+PATH_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=1024)
+# Chapter 09 traces every triangle for every ray: its anti-aliased picture is of the
+# build's octahedral gem (8 triangles; the teapot has 552, and took 40 times as long),
+# framed as the teapot is, whose silhouette, facets and shadow edges slope every way a
+# wrong jitter shows on. Cheap, it takes the path tracers' samples: more than the
+# teapot's 8 x 32 (its wrong variants fail by a wider margin, book/docs/instructors.md).
+GEM = ["--obj", "gem_octahedron.obj"]
+GEM_INPUTS = ("meshes/gem_octahedron.obj",)
+GEM_SAMPLING = Sampling(runs=8, spp=64, reference_runs=4, reference_spp=1024)
+PREVIEW_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
+# Chapter 13's picture tells a right tree from a wrong one by whole missing triangles:
+# few samples do. It is the gems' (220 facets), not the teapot's: a tree that loses or
+# misplaces triangles shows it there as well, the teapot's deep tree is graded exactly
+# by the traversal tests, and a submission whose box test enters every box then takes
+# seconds a run instead of the teapot's minutes (its catalogue entry: 393 s in all).
+TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=128)
+# The appendix's gems test every triangle for every ray in a fragment shader.
+GEMS_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
+# Chapter 04's three front spheres in front of the big one, close up with a long lens:
+# where the nearest hit matters, filling the frame.
+OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
+
+SPECS: dict[str, list[GradeTest]] = {
+    "01": [
+        GradeTest("sums of 1000 floats", 3, ["--count", "1000"], "check", expect="all correct"),
+        GradeTest("one element", 2, ["--count", "1"], "check", expect="all correct"),
+        GradeTest("33 elements: a partial work group", 3, ["--count", "33"], "check",
+                  expect="all correct"),
+        GradeTest("a million elements", 2, ["--count", "1000000"], "check",
+                  "after_due_date", expect="all correct"),
+    ],
+    "02": [
+        GradeTest("pattern, 1D dispatch", 4, ["--width", "96", "--height", "64",
+                                               "--dispatch", "1d"]),
+        GradeTest("pattern, 2D dispatch", 3, ["--width", "96", "--height", "64",
+                                               "--dispatch", "2d"]),
+        GradeTest("odd size, 1D dispatch", 3, ["--width", "203", "--height", "157",
+                                                "--dispatch", "1d"], visibility="after_due_date"),
+    ],
+    "03": [
+        GradeTest("default camera", 4, SMALL),
+        GradeTest("moved and tilted camera", 3, [*SMALL, "--camera-eye", "1.5,2,3",
+                                                 "--camera-look", "-0.4,-0.5,-1",
+                                                 "--camera-up", "0.2,1,0"]),
+        GradeTest("wide lens, odd size", 3, [*ODD, "--focal-length", "0.02"],
+                  visibility="after_due_date"),
+    ],
+    "04": [
+        GradeTest("one sphere", 3, [*SMALL, "--scene", "single"]),
+        GradeTest("four spheres", 3, SMALL),
+        GradeTest("overlapping spheres, close up", 2, [*SMALL, *OVERLAP_CLOSE_UP]),
+        GradeTest("four spheres, odd size", 2, ODD, visibility="after_due_date"),
+    ],
+    "05": [
+        GradeTest("one sphere, lit", 3, [*SMALL, "--scene", "single"]),
+        GradeTest("spheres with shadows", 4, SMALL),
+        GradeTest("low camera, shadows on the floor", 3,
+                  [*ODD, "--camera-eye", "0.1,1.1,4"], visibility="after_due_date"),
+    ],
+    "06": [
+        GradeTest("pyramid", 4, [*SMALL, "--scene", "pyramid"]),
+        GradeTest("spheres on a triangle floor", 3, SMALL),
+        GradeTest("pyramid, odd size", 3, [*ODD, "--scene", "pyramid"],
+                  visibility="after_due_date"),
+    ],
+    "07": [
+        GradeTest("teapot, flat shaded", 4, SMALL),
+        GradeTest("teapot, wider picture", 3, ["--width", "128", "--height", "64"]),
+        GradeTest("teapot, odd size", 3, ODD, visibility="after_due_date"),
+    ],
+    "08": [
+        GradeTest("smooth teapot", 4, SMALL),
+        GradeTest("smooth teapot, wider picture", 3, ["--width", "128", "--height", "64"]),
+        GradeTest("smooth teapot, odd size", 3, ODD, visibility="after_due_date"),
+    ],
+    # Chapter 09: the generator is the lesson, and it is deterministic: the hybrid Taus
+    # of GPU Gems 3, bit for bit as python_prototypes/rng.py, so the first number of each
+    # pixel (--view noise) must be the solution's exactly, at a fixed seed. (Another
+    # good generator is another lesson: it loses these five points, by design.) What the
+    # numbers are used for is random: the anti-aliased picture averages rays through
+    # random points of each pixel, and any uniform point is right (the two numbers in
+    # either order, shifted and wrapped), so it is graded by statistics. The two halves
+    # weigh the same, so that a wrong generator and a wrong jitter each lose half.
+    # (--view ao is not graded: its picture barely depends on the jitter, and its
+    # points would tip that balance; test_09_random_numbers.py checks it.)
+    "09": [
+        GradeTest("first random numbers, hashed seeding", 3,
+                  [*SMALL, "--view", "noise", "--seed", "3"]),
+        GradeTest("first random numbers, naive seeding", 2,
+                  [*SMALL, "--view", "noise", "--seeding", "naive", "--seed", "3"]),
+        GradeTest("anti-aliased gem", 3, ["--width", "32", "--height", "32", *GEM],
+                  "statistical", sampling=GEM_SAMPLING, inputs=GEM_INPUTS),
+        GradeTest("anti-aliased gem, wider picture", 2,
+                  ["--width", "48", "--height", "24", *GEM], "statistical",
+                  "after_due_date", sampling=GEM_SAMPLING, inputs=GEM_INPUTS),
+    ],
+    # Chapter 10: the preview is random too (a random point in each pixel, ambient
+    # occlusion by random rays): graded by expectation. Surfaces alone (no occlusion
+    # within reach) probe the quad and sphere tests and the materials; the preview
+    # probes the occlusion; the gems probe triangles from a mesh file.
+    "10": [
+        GradeTest("Cornell spheres, surfaces and materials", 4,
+                  [*TINY, "--ao-distance", "1e-7"], "statistical", sampling=PREVIEW_SAMPLING),
+        GradeTest("Cornell spheres, ambient occlusion preview", 3, TINY, "statistical",
+                  sampling=PREVIEW_SAMPLING),
+        GradeTest("gems, ambient occlusion preview", 3, [*TINY, "--scene", "cornell_gems"],
+                  "statistical", "after_due_date", sampling=PREVIEW_SAMPLING),
+    ],
+    # Chapter 11: a path-traced picture is random, and any correct sampler of the same
+    # directions may draw its numbers in another order or map them another valid way:
+    # graded by its expectation (tools/course_tools/grading/grading_statistics.py), never by reproducing the
+    # solution's noise. Each test probes other code: direct light (the first bounce's
+    # direction and weight), a path's length (two bounces: one too many or too few shows
+    # through BSDF sampling's noise; at four, a fifth bounce's light would not), the
+    # whole series, and a room lit by two lights of different sizes.
+    "11": [
+        GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, two bounces", 2.5, [*TINY, "--depth", "2"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, global illumination", 2.5, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("two lights, global illumination", 2.5, [*TINY, *TWO_LIGHTS],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Chapter 12: as chapter 11, graded by expectation. Each test probes other code:
+    # direct light (light sampling and MIS against BSDF sampling at the first bounce), a
+    # path's length (four bounces), Russian roulette (from the third bounce on), light
+    # sampling without MIS. Three of them light the room with two lights of different
+    # sizes (assets/scenes/cornell_two_lights.scene): every other scene the chapter ships
+    # has one light, where a density not divided by the number of lights goes unseen.
+    "12": [
+        GradeTest("two lights, direct light", 2.5, [*TINY, *TWO_LIGHTS, "--direct"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("two lights, four bounces", 2.5, [*TINY, *TWO_LIGHTS, "--depth", "4"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, global illumination", 2.5, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("two lights, light sampling only", 2.5,
+                  [*TINY, *TWO_LIGHTS, "--estimator", "nee"], "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    "13": [
+        # The tree must give the pictures of brute force (a slab test that enters every
+        # box does too, only slowly) and do about the solution's work, but need not be
+        # the solution's slab test: another valid one (the planes ordered by min and max
+        # instead of by the direction's signs) may differ in the last bit. So the
+        # path-traced picture is graded by
+        # statistics, and the traversal by its nearest hits (--view distance, exact: one
+        # ray through each pixel's centre) and its work (--view cost, each pixel's steps):
+        # within +-25% of the solution's mean where rays enter the tree, and no more
+        # pixels at the heat map's top (60 steps; entering every box takes thousands).
+        # The starter's box test misses every box: the room without the gems or the teapot.
+        GradeTest("gems in the Cornell box, six bounces", 4,
+                  [*TINY, "--scene", "cornell_gems"], "statistical", sampling=TREE_SAMPLING),
+        GradeTest("nearest hits and traversal work", 4, ["--width", "64", "--height", "64"],
+                  "traversal"),
+        GradeTest("gems, nearest hits and traversal work", 2,
+                  ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
+                  "traversal", visibility="after_due_date"),
+    ],
+    # Chapter 14: the SAH. The picture does not depend on the tree's quality (any valid
+    # tree finds the same hits), so what is graded is the work: the same traversal tests
+    # as chapter 13's, whose +-25% band around the solution's steps a valid SAH (another
+    # bin count, the cost divided by the node's area) meets and a wrong cost does not
+    # (the starter's, a node's price alone, picks the first plane: a peeling tree, many
+    # times the steps). Chapter 13's tests check the pictures.
+    "14": [
+        GradeTest("nearest hits and traversal work", 6, ["--width", "64", "--height", "64"],
+                  "traversal"),
+        GradeTest("gems, nearest hits and traversal work", 4,
+                  ["--scene", "cornell_gems", "--width", "64", "--height", "64"],
+                  "traversal", visibility="after_due_date"),
+    ],
+    # Chapter 15: mirrors and metals, graded by expectation as chapter 12. Each test
+    # probes other code: direct light (NEE through the rough gold's eval: D, G and the
+    # conductor's Fresnel; copper's Fresnel seen in the light's reflection), the whole
+    # picture (every material, light after a mirror), and the glossy plates by BSDF
+    # sampling alone (the visible normals and their density at four roughnesses).
+    "15": [
+        GradeTest("metals, direct light", 3, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("metals, global illumination", 3, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("glossy plates, BSDF sampling only", 2,
+                  [*TINY, *PLATES, "--estimator", "bsdf"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("glossy plates", 2, [*TINY, *PLATES], "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
+    ],
+    # Chapter 16: glass, graded by expectation as chapter 15. What a student writes is
+    # the dielectric's Fresnel equations and Snell's law; each test sees them in other
+    # light: the two glass spheres (smooth: the delta's choice between reflection and
+    # refraction; rough: the same at every microfacet, through NEE and MIS), the gems
+    # (total internal reflection, four indices, triangles) and the showcase's field of
+    # glass among the other materials.
+    "16": [
+        GradeTest("glass spheres", 4, TINY, "statistical", sampling=PATH_SAMPLING),
+        GradeTest("glass gems", 3, [*TINY, "--scene", "cornell_gem_glass"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("showcase", 3, [*TINY, "--scene", "showcase"], "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Chapter 17: a thin lens and textures, graded by expectation as chapter 16. What a
+    # student writes is the concentric map onto the aperture, bilinear filtering and the
+    # sRGB curve's inverse. The bokeh wall shows all three in every test: lamps far out
+    # of focus are seen as the aperture itself (a square, or a disk crowded at its
+    # centre, is another picture), the test pattern in focus shows each texel (nearest
+    # texels, an image upside down or not decoded); the chapter's scene, all of it.
+    "17": [
+        GradeTest("bokeh and an image, direct light", 4,
+                  [*TINY, "--scene", "bokeh_wall", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("bokeh and an image", 3, [*TINY, "--scene", "bokeh_wall"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("textured teapot through the lens", 3, TINY, "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Chapter 18's exercises are the environment's pdf (pixelPdf) and its table search
+    # (findStep): either wrong biases every surface the map lights. The spots map and a
+    # lamp (both sampled by next-event estimation) show it most clearly, direct light
+    # first; the showcase under the sky, with its sun, after the due date.
+    "18": [
+        GradeTest("spots and a lamp, direct light", 4,
+                  [*TINY, "--scene", "environment_spots", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("spots and a lamp", 3, [*TINY, "--scene", "environment_spots"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the sky showcase", 3, TINY, "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
+    ],
+    # Chapter 19's exercises read a quad and a tree node back out of a buffer texture's
+    # texels (scene_memory.glsl). What they read is all in the views that trace one ray
+    # through each pixel's centre without random numbers: deterministic pictures, so
+    # compared with the solution's as images. The room's quads, read wrong, lose every
+    # wall; the teapot's tree, every triangle; the showcase's albedos, after the due date.
+    "19": [
+        GradeTest("the room's quads from a buffer texture", 5,
+                  [*SMALL, "--scene", "cornell_box", "--scene-memory", "texture",
+                   "--view", "normals"]),
+        GradeTest("the teapot's tree from a buffer texture", 3,
+                  [*SMALL, "--scene", "cornell_teapot", "--bvh-memory", "texture",
+                   "--view", "normals"]),
+        GradeTest("the showcase's albedos", 2, [*SMALL, "--view", "albedo"], "image",
+                  "after_due_date"),
+    ],
+    # Chapter 20's exercises are the wavefront's queue: a push (an atomic place for each
+    # pixel) and the dispatch commands (enough work groups for every item). Either wrong
+    # loses paths or traces the wrong ones, and the picture darkens or scrambles: judged
+    # by statistics, as the megakernel's pictures are. The room by direct light first
+    # (one kind of material), smooth and rough glass (a queue per kind), the sky showcase
+    # after the due date.
+    "20": [
+        GradeTest("the room by direct light, through the wavefront", 4,
+                  [*TINY, "--scene", "cornell_box", "--direct", *WAVEFRONT], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("smooth and rough glass, through the wavefront", 3,
+                  [*TINY, "--scene", "cornell_glass", *WAVEFRONT], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the sky showcase, through the wavefront", 3, [*TINY, *WAVEFRONT],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
+    # what GL 3.3 changes: reading the quads and the triangles out of the buffer
+    # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);
+    # the gems' two tests carry half the points, so that a wrong triangle loses half.
+    "A1": [
+        GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("gems, direct light", 3, [*TINY, "--scene", "cornell_gems", "--direct"],
+                  "statistical", sampling=GEMS_SAMPLING),
+        GradeTest("gems, global illumination", 2, [*TINY, "--scene", "cornell_gems"],
+                  "statistical", sampling=GEMS_SAMPLING),
+        GradeTest("two lights, global illumination", 2.5, [*TINY, *TWO_LIGHTS],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+}

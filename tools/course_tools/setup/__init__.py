@@ -1,0 +1,1 @@
+"""Set-up in layers: the platforms table and what each layer installs."""
