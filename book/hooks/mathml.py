@@ -1,15 +1,9 @@
 """Formulas typeset when the book is built, as MathML, which browsers draw themselves:
-no script, no network, nothing to wait for.
-
-pymdownx.arithmatex (generic mode) finds the formulas and keeps Markdown away from them;
-it leaves each one as TeX, `\\( … \\)` in a <span class="arithmatex"> or `\\[ … \\]` in a
-<div class="arithmatex">. This hook turns each into a <math> element with latex2mathml.
-
-latex2mathml does not complain about everything it cannot do: an unknown macro comes out
-as the text "\\foo", a missing brace as a fraction with one part, an `&` outside a
-matrix as broken XML. So its output is checked too. A formula that does not convert is
-logged as an error naming the page and the formula, which fails `mkdocs build --strict`
-(./course book); without --strict the page keeps the TeX."""
+no script, no network, nothing to wait for. pymdownx.arithmatex finds the formulas;
+this hook turns each into a <math> element (course_tools/editions/formulas.py, which
+the starters' pages use too). A formula that does not convert is logged as an error
+naming the page and the formula, which fails `mkdocs build --strict` (./course book);
+without --strict the page keeps the TeX."""
 
 from __future__ import annotations
 

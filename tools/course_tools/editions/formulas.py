@@ -1,18 +1,14 @@
-"""TeX formulas as MathML, checked (the book's hook book/hooks/mathml.py and the
-starters' pages use it).
-
-Formulas typeset when the book is built, as MathML, which browsers draw themselves:
-no script, no network, nothing to wait for.
+"""TeX formulas as MathML, checked: the book's hook (book/hooks/mathml.py) and the
+starters' pages (editions.render_page) typeset with this.
 
 pymdownx.arithmatex (generic mode) finds the formulas and keeps Markdown away from them;
 it leaves each one as TeX, `\\( … \\)` in a <span class="arithmatex"> or `\\[ … \\]` in a
-<div class="arithmatex">. This hook turns each into a <math> element with latex2mathml.
+<div class="arithmatex">; to_mathml turns one into a <math> element with latex2mathml.
 
 latex2mathml does not complain about everything it cannot do: an unknown macro comes out
 as the text "\\foo", a missing brace as a fraction with one part, an `&` outside a
-matrix as broken XML. So its output is checked too. A formula that does not convert is
-logged as an error naming the page and the formula, which fails `mkdocs build --strict`
-(./course book); without --strict the page keeps the TeX."""
+matrix as broken XML. So its output is checked too: to_mathml raises FormulaError,
+saying what is wrong, rather than return a formula drawn wrong."""
 
 from __future__ import annotations
 
