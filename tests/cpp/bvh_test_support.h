@@ -1,6 +1,7 @@
-// Shared by test_bvh.cpp (CPU) and test_bvh_gpu.cpp (GPU): test meshes made in C++, a
-// seeded random generator, and a C++ port of shaders/14_bvh_sah/bvh_traversal.glsl with the
-// same ray-triangle test as the chapters, checked against brute force.
+// Shared by the BVH tests of every tree (bvh_tests.cmake), on the CPU and on the GPU:
+// test meshes made in C++, a seeded random generator, and C++ ports of the chapters'
+// bvh_traversal.glsl with the same ray-triangle test as the chapters, checked against
+// brute force.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -205,14 +206,80 @@ struct BoxRay {
 
 struct TraversalCount {
     int loopIterations = 0;  // what bvhLoopIterations counts
+    // Turns of all the traversal's loops, a while loop's last check that ends it too:
+    // what a GL's loop limit counts (Mesa 22's llvmpipe, measured in test_bvh_gpu).
+    int loopTurns = 0;
     int nodeFetches = 0;
     int triangleTests = 0;
     int maxStack = 0;
 };
 
-// bvh_traversal.glsl's bvhTraverse(), step by step. `mesh` is in leaf order (reordered()).
-inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
-                       float tMax, bool anyHit, TraversalCount* count = nullptr) {
+// The three traversals the course writes, each a line-by-line port of one
+// bvh_traversal.glsl. They visit the same boxes in different orders; each must find
+// exactly what brute force finds in any valid tree. `mesh` is in leaf order (reordered()).
+// The chapter's own is `traverse`, chosen below.
+namespace ports {
+
+// Tests a leaf's triangles, as bvhTestTriangle() written out: a nearer hit replaces the
+// nearest so far.
+inline void testLeaf(const TestMesh& mesh, const Ray& ray, uint32_t first, uint32_t count,
+                     float tMin, RayHit& hit, TraversalCount& counted) {
+    for (uint32_t i = 0; i < count && i < BVH_MAX_LEAF_SIZE; ++i) {
+        ++counted.triangleTests;
+        float t;
+        glm::vec2 uv;
+        if (hitMeshTriangle(mesh, first + i, ray, tMin, hit.t, t, uv))
+            hit = {true, first + i, t, uv};
+    }
+}
+
+// shaders/13_bvh/bvh_traversal.glsl: one loop; the left child goes on, the right one is
+// put aside, and a child taken back is visited whatever the hits found since.
+inline RayHit leftFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
+                        float tMax, bool anyHit, TraversalCount* count = nullptr) {
+    TraversalCount local;
+    TraversalCount& counted = count ? *count : local;
+    BoxRay boxRay(ray);
+    RayHit hit;
+    hit.t = std::min(tMax, 1.0e38f);
+    glm::uvec2 current(0u, 0u);
+    bool haveCurrent = true;
+    glm::uvec2 stack[BVH_STACK_SIZE];
+    int stackSize = 0;
+    for (;;) {
+        ++counted.loopIterations;
+        ++counted.loopTurns;
+        if (!haveCurrent) {
+            if (stackSize == 0) break;
+            current = stack[--stackSize];
+        }
+        haveCurrent = false;
+        const uint32_t first = current.x, triangles = current.y;
+        if (triangles > 0) {
+            testLeaf(mesh, ray, first, triangles, tMin, hit, counted);
+            if (hit.found && anyHit) return hit;
+            continue;
+        }
+        const gpu::BvhNode& node = bvh.nodes.at(first);
+        ++counted.nodeFetches;
+        float enterLeft = boxRay.enter(node.leftMin, node.leftMax, tMin, hit.t);
+        float enterRight = boxRay.enter(node.rightMin, node.rightMax, tMin, hit.t);
+        if (enterLeft < hit.t) {
+            current = {node.leftIndex, node.leftCount};
+            haveCurrent = true;
+        }
+        if (enterRight < hit.t && stackSize < BVH_STACK_SIZE) {
+            stack[stackSize++] = {node.rightIndex, node.rightCount};
+            counted.maxStack = std::max(counted.maxStack, stackSize);
+        }
+    }
+    return hit;
+}
+
+// shaders/14_bvh_sah/bvh_traversal.glsl (to 18): one loop; the child the ray enters
+// first goes on, and a child taken back is skipped if the ray enters it behind a hit.
+inline RayHit nearFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
+                        float tMax, bool anyHit, TraversalCount* count = nullptr) {
     TraversalCount local;
     TraversalCount& counted = count ? *count : local;
     BoxRay boxRay(ray);
@@ -225,6 +292,7 @@ inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, flo
     int stackSize = 0;
     for (;;) {
         ++counted.loopIterations;
+        ++counted.loopTurns;
         if (!haveCurrent) {
             if (stackSize == 0) break;
             --stackSize;
@@ -234,13 +302,7 @@ inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, flo
         haveCurrent = false;
         const uint32_t first = current.x, triangles = current.y;
         if (triangles > 0) {
-            for (uint32_t i = 0; i < triangles && i < BVH_MAX_LEAF_SIZE; ++i) {
-                ++counted.triangleTests;
-                float t;
-                glm::vec2 uv;
-                if (hitMeshTriangle(mesh, first + i, ray, tMin, hit.t, t, uv))
-                    hit = {true, first + i, t, uv};
-            }
+            testLeaf(mesh, ray, first, triangles, tMin, hit, counted);
             if (hit.found && anyHit) return hit;
             continue;
         }
@@ -266,6 +328,88 @@ inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, flo
         }
     }
     return hit;
+}
+
+// shaders/19_speed/bvh_traversal.glsl (and 20): the same visits as nearFirst, in three
+// loops ("while-while": down node after node, one leaf, then off the stack), and a
+// stack entry one uint, the index above the count's BVH_COUNT_BITS.
+inline RayHit whileWhile(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
+                         float tMax, bool anyHit, TraversalCount* count = nullptr) {
+#ifdef BVH_COUNT_BITS
+    constexpr uint32_t countBits = BVH_COUNT_BITS;
+#else
+    constexpr uint32_t countBits = 3u;  // a layout without packing: the same 3 bits
+#endif
+    auto pack = [](glm::uvec2 child) { return (child.x << countBits) | child.y; };
+    auto unpack = [](uint32_t entry) {
+        return glm::uvec2(entry >> countBits, entry & ((1u << countBits) - 1u));
+    };
+    TraversalCount local;
+    TraversalCount& counted = count ? *count : local;
+    BoxRay boxRay(ray);
+    RayHit hit;
+    hit.t = std::min(tMax, 1.0e38f);
+    glm::uvec2 current(0u, 0u);
+    bool haveCurrent = true;
+    uint32_t stack[BVH_STACK_SIZE];
+    float stackEnter[BVH_STACK_SIZE];
+    int stackSize = 0;
+    // loopTurns counts each while loop's condition checks, the last one that ends it
+    // too: a GL runs that as one more turn, which checks and leaves.
+    for (;;) {
+        ++counted.loopTurns;
+        while (++counted.loopTurns, haveCurrent && current.y == 0u) {  // 1. down the tree
+            ++counted.loopIterations;
+            const gpu::BvhNode& node = bvh.nodes.at(current.x);
+            ++counted.nodeFetches;
+            float enterLeft = boxRay.enter(node.leftMin, node.leftMax, tMin, hit.t);
+            float enterRight = boxRay.enter(node.rightMin, node.rightMax, tMin, hit.t);
+            glm::uvec2 left(node.leftIndex, node.leftCount);
+            glm::uvec2 right(node.rightIndex, node.rightCount);
+            bool leftFirst = enterLeft <= enterRight;
+            glm::uvec2 nearChild = leftFirst ? left : right;
+            glm::uvec2 farChild = leftFirst ? right : left;
+            float enterNear = std::min(enterLeft, enterRight);
+            float enterFar = std::max(enterLeft, enterRight);
+            haveCurrent = enterNear < hit.t;
+            if (haveCurrent) current = nearChild;
+            if (enterFar < hit.t && stackSize < BVH_STACK_SIZE) {
+                stack[stackSize] = pack(farChild);
+                stackEnter[stackSize] = enterFar;
+                ++stackSize;
+                counted.maxStack = std::max(counted.maxStack, stackSize);
+            }
+        }
+        if (haveCurrent) {  // 2. a leaf
+            ++counted.loopIterations;
+            testLeaf(mesh, ray, current.x, current.y, tMin, hit, counted);
+            if (hit.found && anyHit) return hit;
+        }
+        haveCurrent = false;  // 3. off the stack
+        while (++counted.loopTurns, stackSize > 0 && !haveCurrent) {
+            --stackSize;
+            haveCurrent = stackEnter[stackSize] < hit.t;
+            current = unpack(stack[stackSize]);
+        }
+        if (!haveCurrent) break;
+    }
+    return hit;
+}
+
+}  // namespace ports
+
+// The chapter's traversal: bvh_tests.cmake reads which one its bvh_traversal.glsl is.
+inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
+                       float tMax, bool anyHit, TraversalCount* count = nullptr) {
+#if defined(BVH_TEST_TRAVERSAL_LEFT_FIRST)
+    return ports::leftFirst(bvh, mesh, ray, tMin, tMax, anyHit, count);
+#elif defined(BVH_TEST_TRAVERSAL_WHILE_WHILE)
+    return ports::whileWhile(bvh, mesh, ray, tMin, tMax, anyHit, count);
+#elif defined(BVH_TEST_TRAVERSAL_NEAR_FIRST)
+    return ports::nearFirst(bvh, mesh, ray, tMin, tMax, anyHit, count);
+#else
+#error "bvh_tests.cmake names the chapter's traversal: BVH_TEST_TRAVERSAL_NEAR_FIRST etc."
+#endif
 }
 
 // The mesh with its triangles in the BVH's leaf order (what the chapter uploads).
