@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-from course_tools.cli import verbs  # VERB_LAYERS: which verb needs which layer
+from course_tools.cli.verbs import VERB_LAYERS  # which verb needs which layer
 from course_tools.setup import platforms  # tools/course_tools/setup/platforms.py: standard library only
 
 GENERATED = ROOT / "book" / "docs" / "generated"
@@ -84,7 +84,7 @@ def pinned(layer: str) -> list[tuple[str, str]]:
 
 
 def layers_table() -> str:
-    verbs = {layer: [f"`{verb}`" for verb, needs in verbs.VERB_LAYERS.items()
+    verbs = {layer: [f"`{verb}`" for verb, needs in VERB_LAYERS.items()
                      if needs == layer and verb != "setup"] for layer in platforms.LAYERS}
     lines = [
         "<!-- Written by book/hooks/setup_tables.py from tools/course_tools/cli/verbs.py, "

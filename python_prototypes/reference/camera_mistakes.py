@@ -37,11 +37,6 @@ def panels(camera, width, height):
     ]
 
 
-def srgb(linear):
-    """Encode linear colours as the chapter's PNG files are, so the panels look alike."""
-    return srgb.encode(linear)
-
-
 def draw(path, width, height):
     import matplotlib
     matplotlib.use("Agg")
@@ -52,7 +47,8 @@ def draw(path, width, height):
     figure, axes = plt.subplots(1, 3, figsize=(11, 3.1), dpi=110)
     figure.subplots_adjust(left=0.01, right=0.99, top=0.9, bottom=0.1, wspace=0.05)
     for axis, (title, directions) in zip(axes, panels(camera, width, height)):
-        axis.imshow(srgb(camera_rays.ray_colors(directions)), interpolation="nearest")
+        axis.imshow(srgb.encode(camera_rays.ray_colors(directions)),  # as the PNGs are
+                    interpolation="nearest")
         degrees_from_forward = np.degrees(np.arccos(np.clip(directions @ forward, -1, 1)))
         lines = axis.contour(degrees_from_forward, levels=[5, 10, 15, 20, 25],
                              colors="white", linewidths=0.8)

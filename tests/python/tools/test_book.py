@@ -228,7 +228,8 @@ def test_every_claim_in_the_pages_is_held_by_the_test_that_plants_its_bug():
     assert len(claims) >= 4
     names = [claim.name for claim in claims]
     assert len(names) == len(set(names)), names
-    tests = {path.name: path.read_text() for path in (ROOT / "tests" / "python").glob("test_*.py")
+    tests = {path.name: path.read_text()
+             for path in (ROOT / "tests" / "python").rglob("test_*.py")
              if path.name != "test_book.py"}  # whose own claims below are made up
     checked = {name for text in tests.values()
                for name in re.findall(r'page_claims\.check\(\s*"([^"]+)"', text)}
@@ -288,7 +289,7 @@ def test_every_number_a_page_marks_is_recorded_by_a_check():
     for page in (ROOT / "book" / "docs").rglob("*.md"):
         for number, line in enumerate(page.read_text().splitlines(), 1):
             assert not re.match(r"\s*<!-- (number|claim) ", line), f"{page.name}:{number}"
-    sources = "\n".join(p.read_text() for p in (ROOT / "tests" / "python").glob("test_*.py"))
+    sources = "\n".join(p.read_text() for p in (ROOT / "tests" / "python").rglob("test_*.py"))
     patterns = [re.escape(re.sub(r"\{[^}]*\}", "\0", text)).replace("\0", ".+")
                 for text in re.findall(r'page_claims\.record\(\s*f?"([^"]+)"', sources)]
     for name, page in sorted(marked):

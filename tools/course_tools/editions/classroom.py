@@ -58,10 +58,10 @@ def imported_modules(test_file: Path, folders: list[Path]) -> set[Path]:
     while queue:
         text = queue.pop().read_text()
         names = []
-        for module, what in re.findall(r"^\s*from\s+([\w.]+)\s+import\s+\(?([\w\s,]+)",
-                                       text, flags=re.M):
+        for module, what in re.findall(r"^[ \t]*from[ \t]+([\w.]+)[ \t]+import[ \t]+"
+                                       r"(\([^)]*\)|[^\n#]*)", text, flags=re.M):
             names += [module] + [f"{module}.{word}" for word in re.findall(r"\w+", what)]
-        names += re.findall(r"^\s*import\s+([\w.]+)", text, flags=re.M)
+        names += re.findall(r"^[ \t]*import[ \t]+([\w.]+)", text, flags=re.M)
         for module in names:
             for folder in folders:
                 candidate = folder / (module.replace(".", "/") + ".py")
@@ -116,7 +116,7 @@ PLANTING_CALLS = {"replace", "shaders_with_bug"}
 
 def without_planted_mistakes(test: str, solution: str, starter: str) -> str:
     """A chapter's test file for its starter. The checks that prove they can fail plant
-    a mistake in a copy of the solution (`replace("t = tClosest - halfChord;", ...)`, or
+    a mistake in a copy of the solution (`replace("<a line of the solution>", ...)`, or
     path_checks.shaders_with_bug): they can only run on the solution, and their strings
     are pieces of it. A test function that makes one of the PLANTING_CALLS with a string
     found in the solution but not in the starter is left out, with the module-level
@@ -220,7 +220,8 @@ def release(root: Path, chapter: str, out: Path, figures: Path | None = None) ->
         target = out / test.relative_to(root)
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(without_planted_mistakes(test.read_text(), solution, starter))
-        imported |= imported_modules(test, [root, root / "tests" / "python"])
+        imported |= imported_modules(test, [root, root / "tests" / "python",
+                                            root / "tests" / "python" / "chapters"])
     for module in sorted(imported):
         copy(str(module.relative_to(root)))
     references = reference_chapters(root, chapter, tests + sorted(imported))

@@ -1,8 +1,8 @@
-"""Solution markers: lesson code marks what a student writes:
+"""Solution markers. Lesson code marks what a student writes:
 
-    // BEGIN SOLUTION turn the flat index into a column and a row
-    uvec2 pixel = uvec2(index % imageSize.x, index / imageSize.x);
-    // STUB: uvec2 pixel = uvec2(0u);
+    // BEGIN SOLUTION the colour of the pixel
+    vec3 colour = shade(hit);
+    // STUB: vec3 colour = vec3(0.0);
     // END SOLUTION
 
 A starter release replaces each block by a TODO carrying the hint from the BEGIN line,

@@ -716,7 +716,7 @@ def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
     grading = build / "grading"
     paths = [root / "CMakeLists.txt", root / "tools" / "grading_specs.py",
              root / "chapters" / chapter / "main.cpp", root / "shaders" / chapter,
-             root / "tests" / "python" / "test_grading.py", build / "compile_commands.json",
+             root / "tests" / "python" / "tools" / "test_grading.py", build / "compile_commands.json",
              build / "bin" / chapter, grading / chapter, grading / "objects"]
     paths += sorted((grading / chapter).glob("*.p[nf]m"))[:1]  # a PNG or PFM reference
     kept = reference_cache.folder()
