@@ -1,5 +1,5 @@
-// Scenes from text files (chapters 11, 12, 13 and the appendix). The file is read whole and
-// walked line by line with course/text_file.h, as the OBJ loader of chapter 07 is; each
+// Scenes from text files (course/scene_file.h). The file is read whole and walked line
+// by line with course/text_file.h, as the chapters' OBJ loader is; each
 // statement is checked as it is read, and what needs the whole file (materials used
 // before their line, the camera, an emitter) is checked at the end.
 #include "course/scene_file.h"
@@ -68,9 +68,9 @@ struct MaterialUse {
 class SceneParser {
 public:
     SceneParser(std::string shownPath, std::vector<std::string> meshFolders,
-                AcceptedMaterials accepted, SceneExtras extras)
+                SceneSupport support)
         : path_(std::move(shownPath)), meshFolders_(std::move(meshFolders)),
-          accepted_(accepted), extras_(extras) {
+          support_(std::move(support)) {
         scene_.path = path_;
     }
 
@@ -121,37 +121,43 @@ public:
                                      " is textured, and this shape has no texture "
                                      "coordinates: textures apply to quads and meshes");
         }
-        if (extras_ != SceneExtras::LensTexturesAndEnvironment && scene_.hasEnvironment())
-            failAt(scene_.environment.line,
-                   "this program has no environment light; it comes in chapter 18");
-        if (extras_ == SceneExtras::None) {
-            const char* later = ": this program has a pinhole camera and no textures; "
-                                "the thin lens and textures come in chapter 17";
-            if (!scene_.textures.empty())
-                failAt(scene_.textures.front().line,
-                       "texture " + inQuotes(scene_.textures.front().name) + later);
-            if (scene_.camera.lensRadius > 0.0f)
-                failAt(cameraLine_, std::string("the camera has a lens") + later);
+        // What this program does not read: exit code 3 at the first line that uses it.
+        const SceneSupport& reads = support_;
+        if (!reads.environment.read && scene_.hasEnvironment())
+            failAt(scene_.environment.line, "this program has no environment light" +
+                                                comesIn("it comes", reads.environment));
+        if (!reads.textures.read && !scene_.textures.empty())
+            failAt(scene_.textures.front().line,
+                   "texture " + inQuotes(scene_.textures.front().name) +
+                       ": this program has no textures" +
+                       comesIn("textures come", reads.textures));
+        if (!reads.lens.read && scene_.camera.lensRadius > 0.0f)
+            failAt(cameraLine_, "the camera has a lens: this program has a pinhole camera" +
+                                    comesIn("the thin lens comes", reads.lens));
+        for (const SceneMaterial& material : scene_.materials) {
+            const bool glass = material.kind == MaterialKind::Dielectric;
+            const bool metal = !glass && material.kind != MaterialKind::Diffuse;
+            if ((glass && !reads.glass.read) || (metal && !reads.metals.read))
+                failAt(material.line,
+                       "material " + inQuotes(material.name) + " is a " +
+                           materialKindWord(material.kind) +
+                           (reads.metals.read ? ": this program renders only opaque materials "
+                                                "(albedo, mirror, conductor)"
+                                              : ": this program renders only diffuse materials "
+                                                "('albedo R G B')") +
+                           (glass ? comesIn("glass comes", reads.glass)
+                                  : comesIn("mirrors and conductors come", reads.metals)));
         }
-        if (accepted_ == AcceptedMaterials::DiffuseOnly)
-            for (const SceneMaterial& material : scene_.materials)
-                if (material.kind != MaterialKind::Diffuse)
-                    failAt(material.line, "material " + inQuotes(material.name) + " is a " +
-                                              materialKindWord(material.kind) +
-                                              ": this program renders only diffuse "
-                                              "materials ('albedo R G B')");
-        if (accepted_ == AcceptedMaterials::Opaque)
-            for (const SceneMaterial& material : scene_.materials)
-                if (material.kind == MaterialKind::Dielectric)
-                    failAt(material.line, "material " + inQuotes(material.name) +
-                                              " is a dielectric: this program renders only "
-                                              "opaque materials (albedo, mirror, conductor); "
-                                              "glass comes in chapter 16");
         if (cameraLine_ == 0)
             failAt(0, "no camera: a scene needs one 'camera' line");
         if (scene_.emitterCount() == 0 && !scene_.hasEnvironment())
             failAt(0, "no emitter: no shape uses a material with an emission");
         return std::move(scene_);
+    }
+
+    // "; glass comes in chapter NN", or nothing where no chapter at hand reads it.
+    static std::string comesIn(const std::string& what, const SceneFeature& feature) {
+        return feature.firstReadBy.empty() ? "" : "; " + what + " in " + feature.firstReadBy;
     }
 
     [[noreturn]] void failAt(size_t lineNumber, const std::string& what) const {
@@ -587,8 +593,7 @@ private:
 
     std::string path_;
     std::vector<std::string> meshFolders_;
-    AcceptedMaterials accepted_;
-    SceneExtras extras_;
+    SceneSupport support_;
     size_t lineNumber_ = 0;
     size_t cameraLine_ = 0;
     std::unordered_map<std::string, size_t> materialLines_;
@@ -603,8 +608,8 @@ private:
 // --8<-- [start:load]
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders,
-                         AcceptedMaterials accepted, SceneExtras extras) {
-    SceneParser parser(shownPath, meshFolders, accepted, extras);
+                         const SceneSupport& support) {
+    SceneParser parser(shownPath, meshFolders, support);
     forEachLine(text, shownPath, [&parser](std::string_view line, size_t lineNumber) {
         parser.readLine(line, lineNumber);
     });
@@ -612,10 +617,10 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
 }
 
 SceneFile loadSceneFile(const std::string& path, const std::vector<std::string>& meshFolders,
-                        AcceptedMaterials accepted, SceneExtras extras) {
+                        const SceneSupport& support) {
     const std::string shownPath = absolutePath(path);
     const std::string text = readWholeFile(path, kMostBytes, "a scene file");
-    return parseSceneText(text, shownPath, meshFolders, accepted, extras);
+    return parseSceneText(text, shownPath, meshFolders, support);
 }
 
 const char* materialKindWord(MaterialKind kind) {

@@ -24,7 +24,7 @@ std::string lineDirective(int sourceNumber, int line) {
            std::to_string(sourceNumber) + "\n";
 }
 
-// "shaders/04_spheres/sphere.glsl" when the folder is a checkpoint's shader folder,
+// "shaders/NN_name/sphere.glsl" when the folder is a checkpoint's shader folder,
 // otherwise the absolute path: short where it can be, never ambiguous.
 std::string shownPathOf(const fs::path& file) {
     fs::path folder = file.parent_path();

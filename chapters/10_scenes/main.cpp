@@ -10,6 +10,7 @@
 #include "course/session.h"
 #include "gpu_scene.h"
 #include "random_dump.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -39,7 +40,8 @@ int main(int argc, char** argv) {
 
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
         course::SceneFile sceneFile = course::loadSceneFile(
-            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR},
+            kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         // The camera ray and the occlusion ray loop over every shape: a GL's loop limit
         // caps the shapes (chapter 07).

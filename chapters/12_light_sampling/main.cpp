@@ -13,6 +13,7 @@
 #include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -38,7 +39,8 @@ int main(int argc, char** argv) {
 
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
         course::SceneFile sceneFile = course::loadSceneFile(
-            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR},
+            kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07).

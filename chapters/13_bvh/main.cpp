@@ -13,6 +13,7 @@
 #include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -42,7 +43,8 @@ int main(int argc, char** argv) {
 
         // 1. The scene file, its meshes, and the packed arrays (exit code 3 on mistakes).
         course::SceneFile sceneFile = course::loadSceneFile(
-            session.scenePath("cornell_teapot"), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_teapot"), {COURSE_GENERATED_ASSET_DIR},
+            kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over the spheres and quads twice (nearest
         // hit, shadow ray); the tree finds the triangles in a few hundred steps a ray.

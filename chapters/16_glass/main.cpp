@@ -14,6 +14,7 @@
 #include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -49,8 +50,7 @@ int main(int argc, char** argv) {
         //    Every material is welcome now, glass too.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("cornell_glass"),
-                                  {COURSE_GENERATED_ASSET_DIR},
-                                  course::AcceptedMaterials::All);
+                                  {COURSE_GENERATED_ASSET_DIR}, kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());

@@ -15,6 +15,7 @@
 #include "course/scene_file.h"
 #include "course/session.h"
 #include "gpu_scene.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -51,9 +52,7 @@ int main(int argc, char** argv) {
         //    on mistakes). A lens and textures are welcome now.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("lens_textures"),
-                                  {COURSE_GENERATED_ASSET_DIR},
-                                  course::AcceptedMaterials::All,
-                                  course::SceneExtras::LensAndTextures);
+                                  {COURSE_GENERATED_ASSET_DIR}, kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());

@@ -15,6 +15,7 @@
 #include "display.h"
 #include "environment.h"
 #include "gpu_scene.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -54,9 +55,7 @@ int main(int argc, char** argv) {
         //    texels.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("sky_showcase"),
-                                  {COURSE_GENERATED_ASSET_DIR},
-                                  course::AcceptedMaterials::All,
-                                  course::SceneExtras::LensTexturesAndEnvironment);
+                                  {COURSE_GENERATED_ASSET_DIR}, kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         EnvironmentMap environment = loadEnvironment(sceneFile);
         gpu::PathParameters parameters{};

@@ -17,6 +17,7 @@
 #include "gpu_timer.h"
 #include "kernel_options.h"
 #include "scene_code.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // bindings and std430 structs, shared with GLSL
 #include "wavefront.h"
 
@@ -60,9 +61,7 @@ int main(int argc, char** argv) {
         //    texels.
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("sky_showcase"),
-                                  {COURSE_GENERATED_ASSET_DIR},
-                                  course::AcceptedMaterials::All,
-                                  course::SceneExtras::LensTexturesAndEnvironment);
+                                  {COURSE_GENERATED_ASSET_DIR}, kSceneSupport);
         GpuScene scene = packScene(sceneFile, codeOptions.tree);
         EnvironmentMap environment = loadEnvironment(sceneFile);
         gpu::PathParameters parameters{};

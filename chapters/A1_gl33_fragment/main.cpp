@@ -15,6 +15,7 @@
 #include "course/session.h"
 #include "gpu_scene.h"
 #include "scene_buffers.h"
+#include "scene_support.h"  // kSceneSupport: what it reads, from its manifest
 #include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
 
 int main(int argc, char** argv) {
@@ -44,7 +45,8 @@ int main(int argc, char** argv) {
         // 1. The scene file, its meshes, and the packed texels and uniform block (exit
         //    code 3 on mistakes, or when the block's arrays are too small).
         course::SceneFile sceneFile = course::loadSceneFile(
-            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR});
+            session.scenePath("cornell_spheres"), {COURSE_GENERATED_ASSET_DIR},
+            kSceneSupport);
         GpuScene scene = packScene(sceneFile);
         // The camera ray and each bounce loop over every shape twice (nearest hit,
         // shadow ray): a GL's loop limit caps shapes x bounces (chapter 07), and it is

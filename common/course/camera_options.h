@@ -1,5 +1,5 @@
-// The camera's command-line options in chapters 03-06, where the user places the camera
-// by hand (from 07 on, the scene frames it). The chapter turns them into its basis with
+// The camera's command-line options of the chapters where the user places the camera by
+// hand (later, the scene frames it). The chapter turns them into its basis with
 // its own makeCamera; that part is the lesson, this is only the reading of numbers.
 #pragma once
 #include <glm/vec3.hpp>

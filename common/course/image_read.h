@@ -2,7 +2,7 @@
 // common/stb_image.cpp), and PFM or OpenEXR radiance maps for the environment light
 // (EXR through the OpenEXR library: common/exr_file.cpp). Decoding
 // image files is not a lesson of the course; what a texture does with the values (sRGB
-// decoding, filtering) is, in chapter 17, and what a light does with a map, in 18.
+// decoding, filtering) is, and what a light does with a map.
 #pragma once
 #include <cstdint>
 #include <string>

@@ -1,5 +1,5 @@
 // Keys a chapter's window reacts to once per press (not once per frame while held),
-// without the chapter including GLFW. Chapter 18's exposure and tone mapping use them.
+// without the chapter including GLFW (an exposure and a tone mapping changed by keys).
 #pragma once
 
 struct GLFWwindow;

@@ -46,7 +46,7 @@ struct LoopWork {
     size_t count;           // 102082
     std::string things;     // "triangles (with the floor's 2)"
     size_t iterationsEach;  // 2
-    std::string wayOut;     // "Chapter 13's BVH renders this mesh."
+    std::string wayOut;     // "A BVH renders this mesh."
     GLenum stage = GL_COMPUTE_SHADER;
 };
 

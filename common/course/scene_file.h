@@ -1,7 +1,7 @@
 // Scenes as small text files (assets/scenes/*.scene), read by a strict line parser.
-// The scene-file reader of chapters 10 and later, and the appendix; no chapter teaches it, so
-// it lives here once. No GL: a chapter turns a SceneFile into what its shaders read,
-// and loads the meshes it names with its own OBJ loader (chapter 07's lesson).
+// The scene-file reader of the chapters that read scene files; no chapter teaches it,
+// so it lives here once. No GL: a chapter turns a SceneFile into what its shaders read,
+// and loads the meshes it names with its own OBJ loader (the lesson of the OBJ chapter).
 //
 // The format, one statement per line; `#` starts a comment; numbers are decimal (1,
 // -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
@@ -55,8 +55,8 @@
 //       to the scene file's folder or, if not found there, to each mesh folder the
 //       program passes in (the build's generated assets); the first that exists wins.
 //   environment PATH [scale S] [rotate_y DEGREES]
-//       a latitude-longitude radiance map (PFM or OpenEXR), infinitely far: the background and a
-//       light (chapter 18). A direction d has u = atan2(d.x, -d.z) / 2 pi, v =
+//       a latitude-longitude radiance map (PFM or OpenEXR), infinitely far: the
+//       background and a light. A direction d has u = atan2(d.x, -d.z) / 2 pi, v =
 //       acos(d.y) / pi (python_prototypes/sky.py), the map's top row at v = 0; S > 0
 //       scales its radiance (default 1); the map is turned by DEGREES about y,
 //       counter-clockwise seen from above. Mitsuba 3's `envmap`. At most one; a scene
@@ -181,28 +181,34 @@ struct SceneFile {
 };
 // --8<-- [end:types]
 
-// Which materials a program renders: a material of another kind is exit code 3 at
-// its line, rather than a picture that silently shows it as something else. Opaque:
-// diffuse, mirror and conductor, everything light does not pass through (no glass).
-enum class AcceptedMaterials { DiffuseOnly, Opaque, All };
-// What a program renders besides a pinhole camera, shapes and materials: a scene using
-// more than that is exit code 3 at the line, as for materials. Each includes the one
-// before: a thin lens and textures (chapter 17), then an environment (chapter 18 on).
-enum class SceneExtras { None, LensAndTextures, LensTexturesAndEnvironment };
+// What a program's scene reader accepts besides diffuse materials, shapes and a pinhole
+// camera. A scene using anything else is exit code 3 at its line, rather than a picture
+// that silently shows it as something else; the message names where the course first
+// reads it. A chapter's manifest says both (manifests/NN_name.ini, scene_reads): the
+// build writes them into the chapter's scene_support.h, kSceneSupport.
+struct SceneFeature {
+    bool read = false;
+    std::string firstReadBy;  // e.g. "chapter NN"; empty when no chapter at hand reads it
+};
+struct SceneSupport {
+    SceneFeature metals;       // mirror and conductor materials
+    SceneFeature glass;        // dielectric materials
+    SceneFeature lens;         // a camera with a lens (lens RADIUS focus DISTANCE)
+    SceneFeature textures;     // texture statements and textured materials
+    SceneFeature environment;  // an environment light
+};
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
 // scene file's own folder.
 SceneFile loadSceneFile(const std::string& path,
                         const std::vector<std::string>& meshFolders = {},
-                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                        SceneExtras extras = SceneExtras::None);
+                        const SceneSupport& support = {});
 
 // The same, from text already in memory: shownPath names it in messages and its folder
 // is where mesh paths are looked up first.
 SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders = {},
-                         AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                         SceneExtras extras = SceneExtras::None);
+                         const SceneSupport& support = {});
 
 // "albedo", "mirror", "conductor" or "dielectric": the word the format uses.
 const char* materialKindWord(MaterialKind kind);

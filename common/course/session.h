@@ -3,7 +3,7 @@
 // (a file when headless, a window otherwise). Chapters write only the lesson:
 //
 //     int main(int argc, char** argv) {
-//         course::CommandLine cli("Chapter 02: a compute shader paints pixels");
+//         course::CommandLine cli("Chapter NN: what it teaches");
 //         return course::run(cli, argc, argv, [&](course::Session& session) { ... });
 //     }
 #pragma once
@@ -24,8 +24,8 @@ namespace course {
 
 // Where a checkpoint's files are; fixed at build time by add_chapter().
 struct ChapterPaths {
-    std::string name;       // "02_first_pixels"
-    std::string shaderDir;  // <repo>/shaders/02_first_pixels
+    std::string name;       // "NN_name"
+    std::string shaderDir;  // <repo>/shaders/NN_name
     std::string assetDir;   // <repo>/assets
 };
 
@@ -70,8 +70,8 @@ public:
     void finish(const ImageBuffer& image, const std::function<void()>& render = {},
                 const std::function<void(int frame)>& eachFrame = {});
 
-    // What the eye sees, where it differs from the linear image (chapter 18's exposure
-    // and tone mapping): `toDisplay` fills `display` from the image, with values the
+    // What the eye sees, where it differs from the linear image (an exposure and a tone
+    // mapping): `toDisplay` fills `display` from the image, with values the
     // window and a PNG show as they are (sRGB-encoding them); finish() calls it before
     // each frame is drawn and before a PNG is written. A PFM is the linear image still.
     void setDisplay(const ImageBuffer& display, std::function<void()> toDisplay);

@@ -23,8 +23,8 @@ struct ShaderFile {
     std::optional<std::string> text;  // none: it could not be read
 };
 
-// Files a program writes itself rather than reads from the shader folder (chapter 19's
-// scene code): `#include "name"` takes the text of `name` from here first. They do not
+// Files a program writes itself rather than reads from the shader folder (code written
+// for the scene it renders): `#include "name"` takes the text of `name` from here first. They do not
 // change while the program runs, so hot reload does not watch them.
 using GeneratedFiles = std::map<std::string, std::string>;
 

@@ -1,4 +1,4 @@
-// Text files as the course's two parsers read them, the OBJ loader (chapter 07) and
+// Text files as the course's two parsers read them, the chapters' OBJ loader and
 // the scene files (course/scene_file.h): the whole file at once, then lines, words and
 // numbers as string_views. No stream per token, and no line, however long or strange,
 // can crash or hang a parser. Every mistake is exit code 3 with "<path>:<line>: what".

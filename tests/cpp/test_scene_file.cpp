@@ -23,14 +23,32 @@ using course::ExitCode;
 using course::formatSceneFile;
 using course::loadSceneFile;
 using course::parseSceneText;
-using course::AcceptedMaterials;
-using course::SceneExtras;
+using course::SceneFeature;
+using course::SceneSupport;
 using course::MaterialKind;
 using course::SceneFile;
 using course::SceneMesh;
 using course::SceneQuad;
 
 namespace {
+
+// What a program reads, as a chapter's kSceneSupport says (scene_support.h, written by
+// the build from the manifests). Each includes the one before, as the chapters add them.
+SceneSupport allMaterials() {
+    SceneSupport support;
+    support.metals.read = support.glass.read = true;
+    return support;
+}
+SceneSupport lensAndTextures() {
+    SceneSupport support = allMaterials();
+    support.lens.read = support.textures.read = true;
+    return support;
+}
+SceneSupport everything() {
+    SceneSupport support = lensAndTextures();
+    support.environment.read = true;
+    return support;
+}
 
 const fs::path kScenes = fs::path(COURSE_SOURCE_DIR) / "assets" / "scenes";
 
@@ -56,11 +74,10 @@ protected:
     // The message loadSceneFile throws for `text`; fails the test if it loads.
     std::string failure(const std::string& text,
                         const std::vector<std::string>& meshFolders = {},
-                        AcceptedMaterials accepted = AcceptedMaterials::DiffuseOnly,
-                        SceneExtras lens = SceneExtras::None) const {
+                        const SceneSupport& support = {}) const {
         const fs::path path = write("bad.scene", text);
         try {
-            loadSceneFile(path.string(), meshFolders, accepted, lens);
+            loadSceneFile(path.string(), meshFolders, support);
             ADD_FAILURE() << "loaded:\n" << text;
         } catch (const course::Failure& error) {
             EXPECT_EQ(error.code(), ExitCode::BadInput) << error.what();
@@ -321,8 +338,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
         }
         // Every kind of material: chapters 15 and 16 ship metals and glass.
         const SceneFile scene =
-            loadSceneFile(entry.path().string(), {generated.string()}, AcceptedMaterials::All,
-                          SceneExtras::LensTexturesAndEnvironment);
+            loadSceneFile(entry.path().string(), {generated.string()}, everything());
         // Every scene is lit, by shapes or by its environment (chapter 18); the
         // grader's scene of two lights has two (chapter 12's choice of light).
         EXPECT_TRUE(scene.emitterCount() >= 1u || scene.hasEnvironment());
@@ -330,8 +346,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
             EXPECT_EQ(scene.emitterCount(), 2u);
         }
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,
-                                               {generated.string()}, AcceptedMaterials::All,
-                                               SceneExtras::LensTexturesAndEnvironment);
+                                               {generated.string()}, everything());
         expectSameScene(scene, again);
         ++count;
     }
@@ -460,7 +475,7 @@ TEST_F(SceneFileTest, MaterialKinds) {
                              "material glass dielectric ior 1.5\n"
                              "material frosted dielectric ior 1.33 roughness 0.1\n";
     const std::string path = (folder_ / "kinds.scene").string();
-    const SceneFile scene = parseSceneText(text, path, {}, AcceptedMaterials::All);
+    const SceneFile scene = parseSceneText(text, path, {}, allMaterials());
     ASSERT_EQ(scene.materials.size(), 7u);
     const auto& m = scene.materials;
     EXPECT_EQ(m[0].kind, MaterialKind::Diffuse);
@@ -478,13 +493,13 @@ TEST_F(SceneFileTest, MaterialKinds) {
     EXPECT_EQ(m[6].roughness, 0.1f);
     EXPECT_EQ(m[6].line, 9u);
     const SceneFile again =
-        parseSceneText(formatSceneFile(scene), path, {}, AcceptedMaterials::All);
+        parseSceneText(formatSceneFile(scene), path, {}, allMaterials());
     expectSameScene(scene, again);
 }
 
 TEST_F(SceneFileTest, MaterialMistakes) {
     auto all = [this](const std::string& line) {
-        return failure(kValid + line + "\n", {}, AcceptedMaterials::All);
+        return failure(kValid + line + "\n", {}, allMaterials());
     };
     EXPECT_EQ(all("material m metal"),
               at(4, "unknown material kind 'metal' (expected albedo, mirror, conductor or "
@@ -575,8 +590,7 @@ TEST_F(SceneFileTest, LensAndTexturesAreReadAndWrittenBack) {
                              "mesh m.obj lamp\n";
     const std::string path = (folder_ / "x.scene").string();
     const std::vector<std::string> folders = {(folder_ / "generated").string()};
-    const SceneFile scene = parseSceneText(text, path, folders, AcceptedMaterials::All,
-                                           SceneExtras::LensAndTextures);
+    const SceneFile scene = parseSceneText(text, path, folders, lensAndTextures());
     EXPECT_EQ(scene.camera.lensRadius, 0.01f);
     EXPECT_EQ(scene.camera.focusDistance, 2.5f);
     ASSERT_EQ(scene.textures.size(), 4u);
@@ -592,15 +606,14 @@ TEST_F(SceneFileTest, LensAndTexturesAreReadAndWrittenBack) {
     EXPECT_EQ(scene.materials[1].texture, 0);
     EXPECT_EQ(scene.materials[1].emission, glm::vec3(1.0f));
     const std::string formatted = formatSceneFile(scene);
-    const SceneFile again = parseSceneText(formatted, path, folders, AcceptedMaterials::All,
-                                           SceneExtras::LensAndTextures);
+    const SceneFile again = parseSceneText(formatted, path, folders, lensAndTextures());
     expectSameScene(scene, again);
     EXPECT_EQ(formatSceneFile(again), formatted);
 }
 
 TEST_F(SceneFileTest, LensAndTextureMistakes) {
     auto lens = [this](const std::string& text) {
-        return failure(text, {}, AcceptedMaterials::All, SceneExtras::LensAndTextures);
+        return failure(text, {}, lensAndTextures());
     };
     const std::string pinhole = kCamera.substr(0, kCamera.size() - 1);
     EXPECT_EQ(lens(pinhole + " lens -0.1 focus 2\n"),
@@ -637,14 +650,46 @@ TEST_F(SceneFileTest, LensAndTextureMistakes) {
 }
 
 TEST_F(SceneFileTest, ProgramsWithoutLensOrTexturesSaySo) {
-    const std::string later = ": this program has a pinhole camera and no textures; the "
-                              "thin lens and textures come in chapter 17";
-    EXPECT_EQ(failure(kValid + "texture t checker 0 0 0 1 1 1\n"), at(4, "texture 't'" + later));
+    EXPECT_EQ(failure(kValid + "texture t checker 0 0 0 1 1 1\n"),
+              at(4, "texture 't': this program has no textures"));
     EXPECT_EQ(failure(kLensCamera + kValid.substr(kCamera.size())),
-              at(1, "the camera has a lens" + later));
+              at(1, "the camera has a lens: this program has a pinhole camera"));
     // A lens of radius 0 is a pinhole: every program renders it.
     const std::string pinhole = kCamera.substr(0, kCamera.size() - 1) + " lens 0 focus 3\n";
     EXPECT_NO_THROW(parseSceneText(pinhole + kValid.substr(kCamera.size()), "x"));
+}
+
+// Where the course first reads what a program does not is the chapter's to say (its
+// manifest, through kSceneSupport): the reader adds it to the message, and says nothing
+// of chapters when it is not given.
+TEST_F(SceneFileTest, MessagesNameTheChapterThatFirstReadsWhatIsMissing) {
+    SceneSupport diffuse;
+    diffuse.metals.firstReadBy = "chapter 15";
+    diffuse.glass.firstReadBy = "chapter 16";
+    diffuse.lens.firstReadBy = diffuse.textures.firstReadBy = "chapter 17";
+    diffuse.environment.firstReadBy = "chapter 18";
+    EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 m\nmaterial m mirror\n", {}, diffuse),
+              at(5, "material 'm' is a mirror: this program renders only diffuse materials "
+                    "('albedo R G B'); mirrors and conductors come in chapter 15"));
+    const std::string glass = kValid + "sphere 0 0 0 1 g\nmaterial g dielectric ior 1.5\n";
+    EXPECT_EQ(failure(glass, {}, diffuse),
+              at(5, "material 'g' is a dielectric: this program renders only diffuse "
+                    "materials ('albedo R G B'); glass comes in chapter 16"));
+    SceneSupport opaque = diffuse;
+    opaque.metals = SceneFeature{true, ""};
+    EXPECT_EQ(failure(glass, {}, opaque),
+              at(5, "material 'g' is a dielectric: this program renders only opaque "
+                    "materials (albedo, mirror, conductor); glass comes in chapter 16"));
+    EXPECT_NO_THROW(parseSceneText(kValid + "sphere 0 0 0 1 m\nmaterial m mirror\n", "x",
+                                   {}, opaque));
+    EXPECT_EQ(failure(kValid + "texture t checker 0 0 0 1 1 1\n", {}, opaque),
+              at(4, "texture 't': this program has no textures; textures come in chapter 17"));
+    EXPECT_EQ(failure(kLensCamera + kValid.substr(kCamera.size()), {}, opaque),
+              at(1, "the camera has a lens: this program has a pinhole camera; the thin lens "
+                    "comes in chapter 17"));
+    write("sky.pfm", std::string("PF\n1 1\n-1.0\n") + std::string(12, '\0'));
+    EXPECT_EQ(failure(kValid + "environment sky.pfm\n", {}, opaque),
+              at(4, "this program has no environment light; it comes in chapter 18"));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -662,15 +707,14 @@ TEST_F(SceneFileTest, EnvironmentIsReadAndWrittenBack) {
                                        "sphere 0 0 0 1 grey\n"
                                        "environment sky.pfm rotate_y 30 scale 2.5\n";
     const std::string path = (folder_ / "x.scene").string();
-    const auto all = SceneExtras::LensTexturesAndEnvironment;
-    const SceneFile scene = parseSceneText(text, path, {}, AcceptedMaterials::All, all);
+    const SceneFile scene = parseSceneText(text, path, {}, everything());
     ASSERT_TRUE(scene.hasEnvironment());
     EXPECT_EQ(scene.environment.path, (folder_ / "sky.pfm").string());
     EXPECT_EQ(scene.environment.scale, 2.5f);
     EXPECT_EQ(scene.environment.rotationYDegrees, 30.0f);
     EXPECT_EQ(scene.environment.line, 4u);
     const SceneFile again =
-        parseSceneText(formatSceneFile(scene), path, {}, AcceptedMaterials::All, all);
+        parseSceneText(formatSceneFile(scene), path, {}, everything());
     EXPECT_EQ(again.environment.scale, 2.5f);
     EXPECT_EQ(again.environment.rotationYDegrees, 30.0f);
     EXPECT_EQ(again.environment.path, scene.environment.path);
@@ -681,8 +725,7 @@ TEST_F(SceneFileTest, EnvironmentMistakes) {
     write("photo.pfm", "P6\n2 1\n255\n");
     write("short.pfm", "PF\n4 4\n-1.0\n" + std::string(12, '\0'));
     auto env = [this](const std::string& line) {
-        return failure(kValid + line + "\n", {}, AcceptedMaterials::All,
-                       SceneExtras::LensTexturesAndEnvironment);
+        return failure(kValid + line + "\n", {}, everything());
     };
     EXPECT_EQ(env("environment sky.pfm\nenvironment sky.pfm"),
               at(5, "a second environment (the first is on line 4)"));
@@ -702,9 +745,8 @@ TEST_F(SceneFileTest, EnvironmentMistakes) {
     EXPECT_EQ(env("environment short.pfm"),
               at(4, "environment 'short.pfm' (" + (folder_ / "short.pfm").string() +
                         ") is not a whole PFM image (the file ends before its last row)"));
-    EXPECT_EQ(failure(kValid + "environment sky.pfm\n", {}, AcceptedMaterials::All,
-                      SceneExtras::LensAndTextures),
-              at(4, "this program has no environment light; it comes in chapter 18"));
+    EXPECT_EQ(failure(kValid + "environment sky.pfm\n", {}, lensAndTextures()),
+              at(4, "this program has no environment light"));
 }
 
 TEST_F(SceneFileTest, NoEmitter) {

@@ -9,13 +9,16 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string_view text(reinterpret_cast<const char*>(data), size);
     try {
-        const auto everything = course::SceneExtras::LensTexturesAndEnvironment;
-        course::SceneFile scene = course::parseSceneText(
-            text, "/fuzz/input.scene", {}, course::AcceptedMaterials::All, everything);
+        course::SceneSupport everything;  // every statement read
+        for (course::SceneFeature* feature : {&everything.metals, &everything.glass,
+                                              &everything.lens, &everything.textures,
+                                              &everything.environment})
+            feature->read = true;
+        course::SceneFile scene =
+            course::parseSceneText(text, "/fuzz/input.scene", {}, everything);
         std::string written = course::formatSceneFile(scene);
         try {
-            course::parseSceneText(written, "/fuzz/written.scene", {},
-                                   course::AcceptedMaterials::All, everything);
+            course::parseSceneText(written, "/fuzz/written.scene", {}, everything);
         } catch (const course::Failure&) {
             __builtin_trap();  // what the writer writes, the reader must read
         }

@@ -9,6 +9,9 @@ programs that render them. Standard library only: ./course reads it before any s
     summary = Monte Carlo integration prototyped in numpy, ...
     run = --width 400 --height 400 --spp 64      (optional)
     base = 12_light_sampling                     (appendices only)
+    scene_reads = metals glass                   (optional: what its scene reader
+                                                  accepts besides diffuse shapes and a
+                                                  pinhole camera; cmake/SceneSupport.cmake)
 
     [figures]
     11_direct.png = 11 --width 200 --height 200 --spp 64 --direct
@@ -26,6 +29,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 FOLDER = "manifests"
+# What a scene reader may accept besides diffuse shapes and a pinhole camera, as
+# cmake/SceneSupport.cmake and common/course/scene_file.h's SceneSupport name them.
+SCENE_FEATURES = ("metals", "glass", "lens", "textures", "environment")
 
 
 class ManifestError(Exception):
@@ -47,6 +53,7 @@ class Manifest:
     run: list[str] = field(default_factory=list)
     base: str | None = None
     figures: list[Figure] = field(default_factory=list)
+    scene_reads: tuple[str, ...] = ()
 
     @property
     def number(self) -> str:
@@ -66,9 +73,14 @@ def read(path: Path) -> Manifest:
     for key in ("title", "summary"):
         if not chapter.get(key, "").strip():
             raise ManifestError(f"{path}: [chapter] needs a {key}")
-    unknown = set(chapter) - {"title", "summary", "run", "base"}
+    unknown = set(chapter) - {"title", "summary", "run", "base", "scene_reads"}
     if unknown:
         raise ManifestError(f"{path}: [chapter] has unknown keys: {', '.join(sorted(unknown))}")
+    scene_reads = tuple(chapter.get("scene_reads", "").split())
+    strange = [word for word in scene_reads if word not in SCENE_FEATURES]
+    if strange:
+        raise ManifestError(f"{path}: [chapter] scene_reads: {', '.join(strange)} is not one "
+                            f"of {' '.join(SCENE_FEATURES)}")
     figures = []
     if parser.has_section("figures"):
         for name, line in parser["figures"].items():
@@ -80,7 +92,7 @@ def read(path: Path) -> Manifest:
     return Manifest(chapter=path.stem, title=chapter["title"].strip(),
                     summary=" ".join(chapter["summary"].split()),
                     run=chapter.get("run", "").split(), base=chapter.get("base") or None,
-                    figures=figures)
+                    figures=figures, scene_reads=scene_reads)
 
 
 def load(root: Path, chapters: list[str]) -> dict[str, Manifest]:

@@ -27,6 +27,24 @@ def test_every_chapter_has_shaders_tests_and_a_book_page():
         assert (ROOT / "book" / "docs" / "chapters" / f"{name}.md").exists(), name
 
 
+def chapter_numbers_named(text: str) -> list[str]:
+    """Where a text names a chapter by its number or its folder ("chapter 16", "Chapter
+    18's", "chapters 03-06", "02_first_pixels")."""
+    return re.findall(r"\b[Cc]hapters? \d+|\b(?:\d\d|A\d)_[a-z]\w*", text)
+
+
+def test_the_common_layer_names_no_chapter():
+    """common/ is what no chapter teaches, whatever the chapters' order: a message that
+    names a chapter comes from the chapters' manifests (cmake/SceneSupport.cmake)."""
+    named = [f"{path.relative_to(ROOT)}: {', '.join(found)}"
+             for path in sorted((ROOT / "common").rglob("*")) if path.is_file()
+             for found in [chapter_numbers_named(path.read_text(errors="replace"))] if found]
+    assert named == [], "\n".join(named)
+    assert chapter_numbers_named("glass comes in chapter 16; see 02_first_pixels") == \
+        ["chapter 16", "02_first_pixels"]
+    assert chapter_numbers_named("the chapter NN_name; a chapter's manifest") == []
+
+
 def test_chapters_contain_no_context_plumbing():
     pattern = re.compile(r"eglInitialize|glfwInit|OSMesaCreateContext|gladLoad")
     for path in (ROOT / "chapters").rglob("*.cpp"):
