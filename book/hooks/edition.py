@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-from course_tools.cli import commands as course  # book_diff_pairs: which checkpoint diffs the book shows
+from course_tools.cli.book import book_diff_pairs  # which checkpoint diffs the book shows
 from course_tools.editions import editions  # tools/course_tools/editions/editions.py: the student edition's sources
 
 
@@ -29,7 +29,7 @@ def on_pre_build(config):
     # After hooks/setup_tables.py's on_pre_build: the setup page's tables are written.
     if editions.edition() == "student":
         editions.write_student_sources(ROOT, editions.STUDENT_SOURCES,
-                                       course.book_diff_pairs())
+                                       book_diff_pairs())
 
 
 def on_page_markdown(markdown, page, config, files):

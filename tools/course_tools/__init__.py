@@ -2,7 +2,8 @@
 
 Sub-packages by job, importing one way, from the top of this list to the bottom:
 
-    cli/       the command line: one table of verbs (cli/verbs.py), the suite, the book
+    cli/       the command line: one table of verbs (cli/verbs.py), the build folder,
+               the suite, the book, the other verbs
     bench/     benchmarks against Mitsuba 3 and between the course's own chapters
     editions/  solution markers, the student edition, starter releases, autograder zips
     grading/   the grader, its statistics and its sandbox

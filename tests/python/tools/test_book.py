@@ -11,7 +11,8 @@ import pytest
 
 from conftest import ROOT, read_image
 
-from course_tools.cli import commands as course  # figure_rows: every chapter manifest's pictures
+from course_tools import chapters
+from course_tools.cli.book import figure_rows  # every chapter manifest's pictures
 from course_tools import manifests
 
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
@@ -20,7 +21,7 @@ COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
 def test_book_builds_strictly_with_real_figures(built_book):
     site = built_book
     assert (site / "index.html").exists()
-    figures = [figure for figure, _, _ in course.figure_rows()]
+    figures = [figure for figure, _, _ in figure_rows()]
     assert len(figures) >= 40
     for figure in figures:
         rendered = ROOT / "book" / "docs" / "generated" / figure
@@ -37,15 +38,15 @@ def test_every_chapter_has_a_manifest_and_every_picture_is_listed(built_book):
     """The manifests name every chapter's title, summary and pictures: the navigation
     and the front page's list come from them, and each picture a page shows is one a
     manifest renders (and none is rendered for no page)."""
-    found = manifests.load(ROOT, course.chapters())
-    assert list(found) == course.chapters()
+    found = manifests.load(ROOT, chapters.names())
+    assert list(found) == chapters.names()
     index = (built_book / "index.html").read_text()
     shown = set()
     for name, manifest in found.items():
         assert f'href="chapters/{name}/"' in index and manifest.title in index, name
         page = (ROOT / "book" / "docs" / "chapters" / f"{name}.md").read_text()
         shown |= set(re.findall(r"\.\./generated/([\w.-]+\.png)", page))
-    assert shown == {figure for figure, _, _ in course.figure_rows()}
+    assert shown == {figure for figure, _, _ in figure_rows()}
 
 
 def test_a_broken_manifest_is_a_clear_error(tmp_path):

@@ -1,5 +1,6 @@
 """The command line of ./course: one table of verbs, each with its options, what it
-does (a function of commands.py, which imports only the standard library at first) and the set-up layer it needs (setup/machine_setup.py). A verb with
+does (a function of commands.py, suite.py or book.py, which import only the standard
+library at first) and the set-up layer it needs (setup/machine_setup.py). A verb with
 a layer first sets that layer up with the system's Python, then runs again in .venv;
 verbs without one only read files and run with whatever Python started ./course."""
 
@@ -12,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from course_tools.cli import commands
+from course_tools.cli import book, commands, suite
 from course_tools.paths import ROOT
 
 LAYERS = ["run", "book", "grade", "test"]
@@ -23,7 +24,7 @@ class Verb:
     name: str
     help: str
     options: Callable[[argparse.ArgumentParser], None]  # adds the verb's options
-    command: Callable[[argparse.Namespace], None]  # carries it out (commands.py)
+    command: Callable[[argparse.Namespace], None]  # carries it out
     layer: str | None       # the set-up layer it needs (None: files only)
     description: str = ""
 
@@ -147,11 +148,11 @@ VERBS = [
     Verb("run", "build and run a chapter headless (default: the last)", run_options,
          commands.cmd_run, "run", "Runs a chapter; options after the chapter number go to the "
          "chapter program (see its --help)."),
-    Verb("test", "build everything and run every check", test_options, commands.cmd_test, "test"),
+    Verb("test", "build everything and run every check", test_options, suite.cmd_test, "test"),
     Verb("fuzz", "run the libFuzzer targets (OBJ, scene, #include)", fuzz_options,
-         commands.cmd_fuzz, "test"),
-    Verb("diff", "what checkpoint B adds to checkpoint A", diff_options, commands.cmd_diff, None),
-    Verb("book", "render the figures and build the book", book_options, commands.cmd_book, "book"),
+         suite.cmd_fuzz, "test"),
+    Verb("diff", "what checkpoint B adds to checkpoint A", diff_options, book.cmd_diff, None),
+    Verb("book", "render the figures and build the book", book_options, book.cmd_book, "book"),
     Verb("bench", "our path tracer against Mitsuba 3 (Cornell box, teapot); chapter 14's "
          "BVH against brute force, 552 to 1M triangles", bench_options, commands.cmd_bench, "test",
          "Measures each figure --repeat times and reports the median with the range of the "
