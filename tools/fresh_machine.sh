@@ -141,6 +141,19 @@ fi
 # lets every user through, and the grader's unprivileged user needs that.
 chmod 0755 "$ROOTFS"
 
+# The grader makes its users (course-grader, course-grader1, ...) with useradd --system,
+# which numbers them down from 999 as it does here: the root's course-grader2 would be
+# this machine's course-grader1, and the two graders share one kernel. Each ends a run
+# by killing every process of its user's uid, so a suite in the root beside one here
+# would kill the other's compiles and runs (SIGKILL). The root's system users are
+# numbered from a range of their own instead; useradd still makes them when asked.
+if [ -f "$ROOTFS/etc/login.defs" ]; then
+  sed -i -e '/^[#[:space:]]*SYS_UID_M[AI][XN]/d' -e '/^[#[:space:]]*SYS_GID_M[AI][XN]/d' \
+    "$ROOTFS/etc/login.defs"
+  printf 'SYS_UID_MIN 58000\nSYS_UID_MAX 58999\nSYS_GID_MIN 58000\nSYS_GID_MAX 58999\n' \
+    >>"$ROOTFS/etc/login.defs"
+fi
+
 # 2. What makes the network work as here: DNS, the CA bundle, apt's and pip's settings.
 cp /etc/resolv.conf "$ROOTFS/etc/resolv.conf"
 if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
