@@ -11,9 +11,10 @@ import pytest
 
 from conftest import ROOT, read_image
 
-from course_tools import chapters
+from course_tools import chapters, manifests
 from course_tools.cli.book import figure_rows  # every chapter manifest's pictures
-from course_tools import manifests
+from course_tools.editions import formulas as mathml  # as book/hooks/mathml.py typesets
+from course_tools.setup import machine_setup, platforms
 
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
 
@@ -81,9 +82,6 @@ def test_list_names_every_chapter():
 
 
 # ---------------------------------------------------------------- formulas
-
-from course_tools.editions import formulas as mathml  # typeset at build time (book/hooks/mathml.py)
-
 
 def built_pages(site) -> list:
     return sorted(p for p in site.rglob("*.html") if "assets" not in p.parts)
@@ -157,10 +155,6 @@ def test_a_formula_that_cannot_be_typeset_fails_the_strict_build(tmp_path):
 
 
 # ---------------------------------------------------------------- the setup page
-
-from course_tools.setup import machine_setup
-from course_tools.setup import platforms
-
 
 def page_text(path) -> str:
     return html_module.unescape(re.sub(r"<[^>]+>", " ", path.read_text()))
