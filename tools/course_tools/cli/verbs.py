@@ -15,8 +15,7 @@ from typing import Callable
 
 from course_tools.cli import book, commands, suite
 from course_tools.paths import ROOT
-
-LAYERS = ["run", "book", "grade", "test"]
+from course_tools.setup.platforms import LAYERS  # run, book, grade, test
 
 
 @dataclass(frozen=True)
