@@ -116,12 +116,18 @@ void CommandLine::option(const std::string& name, const std::string& valueName,
 
 void CommandLine::choice(const std::string& name, const std::string& help,
                          const std::vector<std::string>& choices, std::string* target) {
+    choiceIndex(name, help, choices, [=](size_t i) { *target = choices[i]; });
+}
+
+void CommandLine::choiceIndex(const std::string& name, const std::string& help,
+                              const std::vector<std::string>& choices,
+                              std::function<void(size_t index)> set) {
     std::string names;
     for (const auto& c : choices) names += (names.empty() ? "" : "|") + c;
     extra_.push_back({name, help, names, [=](const std::string& value) {
-                          for (const auto& c : choices)
-                              if (c == value) {
-                                  *target = value;
+                          for (size_t i = 0; i < choices.size(); ++i)
+                              if (choices[i] == value) {
+                                  set(i);
                                   return;
                               }
                           badUsage(name + " must be one of " + names + ", got '" + value +

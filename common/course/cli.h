@@ -57,6 +57,13 @@ public:
                 const std::string& help, glm::vec3* target);
     void choice(const std::string& name, const std::string& help,
                 const std::vector<std::string>& choices, std::string* target);
+    // The same for an enum whose values are 0, 1, ... in the order of `choices`: the
+    // name is compared once, here, and the program compares values.
+    template <typename Enum>
+    void choice(const std::string& name, const std::string& help,
+                const std::vector<std::string>& choices, Enum* target) {
+        choiceIndex(name, help, choices, [target](size_t i) { *target = Enum(i); });
+    }
     // Which shared options this chapter accepts beyond the basics (e.g. --obj from 07).
     void acceptObj() { acceptObj_ = true; }
     void acceptScene() { acceptScene_ = true; }
@@ -68,6 +75,9 @@ public:
     std::string usage() const;
 
 private:
+    void choiceIndex(const std::string& name, const std::string& help,
+                     const std::vector<std::string>& choices,
+                     std::function<void(size_t index)> set);
     std::string program_, summary_;
     std::vector<ChapterOption> extra_;
     bool acceptObj_ = false, acceptScene_ = false, makesImage_ = true;

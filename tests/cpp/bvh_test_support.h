@@ -330,7 +330,7 @@ inline RayHit nearFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, fl
     return hit;
 }
 
-// shaders/19_speed/bvh_traversal.glsl (and 20): the same visits as nearFirst, in three
+// shaders/21_tree_price/bvh_traversal.glsl (and 22, 23): the same visits as nearFirst, in three
 // loops ("while-while": down node after node, one leaf, then off the stack), and a
 // stack entry one uint, the index above the count's BVH_COUNT_BITS.
 inline RayHit whileWhile(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,

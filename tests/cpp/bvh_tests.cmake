@@ -6,7 +6,7 @@
 # The trees are found, not listed: every chapters/*/bvh.cpp, with its chapter's bvh.h,
 # shaders/<chapter>/bvh_layout.h and bvh_traversal.glsl. Chapters whose four files are
 # the same code are one tree, tested once and named after the first of them (13_bvh;
-# 14_bvh_sah for 14 to 18; 19_speed for 19 and 20), so renumbering chapters or adding
+# 14_bvh_sah for 14 to 19; 20_memory_paths; 21_tree_price for 21 to 23), so renumbering chapters or adding
 # one changes nothing here. Whole-line // comments do not count: chapter 14's builder
 # carries the exercise's solution markers (// BEGIN SOLUTION, // STUB: ...), 15's not.
 #
@@ -16,7 +16,7 @@
 #   - BvhOptions::leavesByCount too: leaves priced as the traversal runs them
 #     (test_bvh_priced.cpp, BVH_TEST_PRICED_LEAVES).
 # The port of the traversal follows the chapter's bvh_traversal.glsl: while-while with a
-# packed stack (bvhPackChild, chapter 19), nearer child first (stackEnter, chapter 14),
+# packed stack (bvhPackChild, chapter 21), nearer child first (stackEnter, chapter 14),
 # or left child first (chapter 13). A builder or traversal of another kind fails those
 # tests, saying which rule it breaks: then give it its own test file here.
 #
@@ -77,13 +77,18 @@ function(_bvh_add_tests)
         list(APPEND sources test_bvh_priced.cpp)
         list(APPEND definitions BVH_TEST_PRICED_LEAVES)
       endif()
-      if(NOT big_teapots_done)
-        list(APPEND definitions BVH_TEST_BIG_TEAPOTS)
-        list(APPEND assets course_benchmark_assets)
-        set(big_teapots_done TRUE)
-      endif()
+      set(builder_kind sah)
     else()
       list(APPEND sources test_bvh_median.cpp)
+      set(builder_kind median)
+    endif()
+    # The big teapots for the first tree of each kind of builder (chapter 13's median
+    # split, chapter 14's SAH): the loop counts at a million triangles that chapter 13's
+    # page states are those of both.
+    if(NOT big_teapots_${builder_kind})
+      list(APPEND definitions BVH_TEST_BIG_TEAPOTS)
+      list(APPEND assets course_benchmark_assets)
+      set(big_teapots_${builder_kind} TRUE)
     endif()
     if(traversal MATCHES "bvhPackChild")
       list(APPEND definitions BVH_TEST_TRAVERSAL_WHILE_WHILE)

@@ -17,7 +17,7 @@ namespace bvh_test {
 // The tree's API. bvh_tests.cmake defines BVH_TEST_OPTIONS where the chapter's bvh.h
 // has BvhOptions and BvhStats (the SAH builders, chapter 14 on), and
 // BVH_TEST_PRICED_LEAVES where BvhOptions can price a leaf by its count or as written
-// out (chapter 19 on). Chapter 13's median builder takes no options and reports no
+// out (chapter 21 on). Chapter 13's median builder takes no options and reports no
 // stats: its TreeOptions are only its fixed limits, which the checks read.
 // ---------------------------------------------------------------------------------------
 
@@ -38,7 +38,7 @@ inline Bvh buildTree(const TestMesh& mesh, const TreeOptions& = {}) {
 
 #ifdef BVH_TEST_OPTIONS
 // The triangle tests the SAH charges a ray entering a leaf of `count` triangles: the
-// count (chapter 14), or all that the traversal writes out (chapter 19's default).
+// count (chapter 14), or all that the traversal writes out (chapter 21's default).
 inline double leafTests(uint32_t count, const TreeOptions& options) {
 #ifdef BVH_TEST_PRICED_LEAVES
     if (!options.leavesByCount) return BVH_MAX_LEAF_SIZE;
@@ -48,7 +48,7 @@ inline double leafTests(uint32_t count, const TreeOptions& options) {
 }
 
 // The tree with each leaf price the builder knows: chapter 14's (a leaf costs its
-// triangles) and, where there is one, chapter 19's (a leaf costs the tests written out).
+// triangles) and, where there is one, chapter 21's (a leaf costs the tests written out).
 inline std::vector<TreeOptions> everyLeafPrice(const TreeOptions& options) {
 #ifdef BVH_TEST_PRICED_LEAVES
     TreeOptions byCount = options, writtenOut = options;

@@ -4,7 +4,7 @@
 // bad inputs, and rays: the chapter's traversal, ported to C++, finds exactly what
 // testing every triangle finds. What only some trees promise is in test_bvh_median.cpp
 // (chapter 13's split), test_bvh_sah.cpp (the SAH's options and stats) and
-// test_bvh_priced.cpp (chapter 19's leaf prices).
+// test_bvh_priced.cpp (chapter 21's leaf prices).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Chapter 19's tree "priced as it runs" (book/docs/chapters/19_speed.md): a leaf costs
+// Chapter 21's tree "priced as it runs" (book/docs/chapters/21_tree_price.md): a leaf costs
 // all BVH_MAX_LEAF_SIZE triangle tests the traversal writes out, L = 4 triangleCost,
 // whatever it holds, and a range of up to four triangles is split only if
 //     nodeCost * A + L * (A_left + A_right) < L * A,

@@ -3,7 +3,7 @@
 // happens exactly when the surface area heuristic says it is cheaper, the depth limit
 // holds where the SAH would go deeper, the stats, and bad options refused. Built for
 // every tree whose bvh.h has BvhOptions (bvh_tests.cmake): chapter 14's, and chapter
-// 19's with each of its two leaf prices where a test does not depend on the price.
+// 21's with each of its two leaf prices where a test does not depend on the price.
 #include <gtest/gtest.h>
 
 #include <cmath>

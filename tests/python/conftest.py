@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from course_tools import chapters
 from python_prototypes.pfm import read_pfm  # noqa: F401  (the checks import it from here)
 from python_prototypes.srgb import encode_8bit as srgb_encode_8bit  # noqa: F401
 
@@ -117,9 +118,12 @@ class Run:
 
 
 def chapter_name(prefix: str) -> str:
-    names = [p.name for p in BIN.iterdir() if p.name.startswith(prefix + "_")]
-    assert names, f"chapter {prefix} is not built in {BIN}"
-    return names[0]
+    """The chapter's name from the course's list (CMakeLists.txt), not from the build
+    folder, which may still hold a program of a chapter since renamed."""
+    name = chapters.matching(prefix, ROOT)
+    assert name is not None, f"there is no chapter {prefix} in {ROOT / 'CMakeLists.txt'}"
+    assert (BIN / name).exists(), f"chapter {prefix} is not built in {BIN}"
+    return name
 
 
 def run_chapter(prefix: str, *args: str, cwd: Path | None = None, env: dict | None = None,

@@ -676,9 +676,61 @@ CHAPTER_A1 = [
 CATALOGUE["A1"] = CHAPTER_A1
 
 
-# ---------------------------------------------------------------- chapter 20
+# ---------------------------------------------------------------- chapter 22
 
-W = "20_wavefront"
+R = "22_path_regeneration"
+REGENERATE = """        done += 1u;  // as chapter 09: the running mean, one sample at a time
+        mean += (path.radiance - mean) / float(sampleIndex + done);
+        if (done == samplesThisDispatch) return mean;
+        path = startPath(cameraRay(pixel, random));  // the next sample, in this lane
+"""
+NEXT_PATH = "        path = startPath(cameraRay(pixel, random));  // the next sample, in this lane\n"
+
+CHAPTER_22 = [
+    Variant(R, "the mean by explicit weights", True, (
+        Edit("shaders/path.comp", REGENERATE,
+             "        done += 1u;\n"
+             "        float n = float(sampleIndex + done);\n"
+             "        mean = mean * ((n - 1.0) / n) + path.radiance / n;\n"
+             "        if (done == samplesThisDispatch) return mean;\n"
+             + NEXT_PATH),)),
+    Variant(R, "the count raised inside the test", True, (
+        Edit("shaders/path.comp", REGENERATE,
+             "        mean += (path.radiance - mean) / float(sampleIndex + done + 1u);\n"
+             "        if (++done == samplesThisDispatch) return mean;\n" + NEXT_PATH),)),
+    Variant(R, "the next path's state set field by field", True, (
+        Edit("shaders/path.comp", NEXT_PATH,
+             "        path.ray = cameraRay(pixel, random);\n"
+             "        path.radiance = vec3(0.0);\n"
+             "        path.throughput = vec3(1.0);\n"
+             "        path.directionPdf = 0.0;\n"
+             "        path.afterDelta = false;\n"
+             "        path.bounce = 0;\n"),)),
+
+    Variant(R, "the finished path's light carried into the next", False, (
+        Edit("shaders/path.comp", NEXT_PATH,
+             "        vec3 carried = path.radiance;\n" + NEXT_PATH +
+             "        path.radiance = carried;\n"),)),
+    Variant(R, "the finished path's throughput carried into the next", False, (
+        Edit("shaders/path.comp", NEXT_PATH,
+             "        vec3 kept = path.throughput;\n" + NEXT_PATH +
+             "        path.throughput = kept;\n"),)),
+    Variant(R, "the bounce count not started again", False, (
+        Edit("shaders/path.comp", NEXT_PATH,
+             "        int bounces = path.bounce;\n" + NEXT_PATH +
+             "        path.bounce = bounces;\n"),)),
+    Variant(R, "the next path goes on from the last one's ray, not from the camera", False, (
+        Edit("shaders/path.comp", NEXT_PATH,
+             "        path.radiance = vec3(0.0);\n"
+             "        path.bounce = 0;\n"),)),
+]
+
+CATALOGUE["22"] = CHAPTER_22
+
+
+# ---------------------------------------------------------------- chapter 23
+
+W = "23_wavefront"
 PUSH = """    uint place = atomicAdd(queues[queue].size, 1u);
     queueItems[queue * poolSize + place] = slot;
 """
@@ -687,7 +739,7 @@ CAMERA_DRAWS = """    vec2 inPixel = random2(random);
     Ray ray = primaryRay(pixel, imageSize, inPixel, random2(random));
 """
 
-CHAPTER_20 = [
+CHAPTER_23 = [
     # The loop goes on from the size the failed swap saw: re-reading the size instead
     # is wrong, since the buffer is not `coherent` and the compiler may keep the first
     # read (on llvmpipe, the loop then spins until Mesa 22 ends the invocation).
@@ -730,4 +782,4 @@ CHAPTER_20 = [
              "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE;\n"),)),
 ]
 
-CATALOGUE["20"] = CHAPTER_20
+CATALOGUE["23"] = CHAPTER_23

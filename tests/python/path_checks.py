@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import json
 import math
 import os
 import re
@@ -316,6 +317,14 @@ def named_region(image: np.ndarray, scene_file: Path, name: str):
     return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
 
 
+def render_stats(chapter: str, tmp_path, *args) -> dict:
+    """The chapter's --json statistics for one headless render with args."""
+    result = run_chapter(chapter, "--headless", "--out", tmp_path / "stats.pfm", "--json",
+                         *map(str, args))
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
 def shaders_with_bug(chapter: str, destination: Path, bug=None, extra=()) -> Path:
     """A copy of a chapter's shader folder (conftest.copy_shaders, with the `extra` files
     beside them), where bug = (file, the right text, the wrong one) plants one mistake;
@@ -367,3 +376,23 @@ def assert_same_picture(image: np.ndarray, reference: np.ndarray, what: str):
     assert share <= MOST_DIFFERING_PIXELS, f"{what}: {share:.2%} of the pixels differ"
     relative = abs(image.mean() / reference.mean() - 1)
     assert relative <= MEAN_TOLERANCE, f"{what}: the mean differs by {relative:.2e}"
+
+
+def spheres_scene(path, count: int):
+    """`count` small spheres in rows above the Cornell room's floor, every fifth one
+    glowing, the rest alternately white and red: a scene of count + 6 shapes."""
+    lines = ["camera eye 0 0 3.9 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.025",
+             "material white albedo 0.8 0.8 0.8", "material red albedo 0.8 0.1 0.1",
+             "material lamp albedo 0.8 0.8 0.8 emission 4 4 4",
+             "quad -1 -1 1 2 0 0 0 0 -2 white", "quad -1 1 -1 2 0 0 0 0 2 white",
+             "quad -1 -1 -1 2 0 0 0 2 0 white", "quad -1 -1 1 0 0 -2 0 2 0 red",
+             "quad 1 -1 -1 0 0 2 0 2 0 white",
+             "quad -0.25 0.99 -0.25 0.5 0 0 0 0 0.5 lamp"]
+    side = int(np.ceil(np.sqrt(count)))
+    for i in range(count):
+        x, z = -0.9 + 1.8 * (i % side + 0.5) / side, -0.9 + 1.8 * (i // side + 0.5) / side
+        material = "lamp" if i % 5 == 0 else ("white", "red")[i % 2]
+        lines.append(f"sphere {x:.4f} {-0.9 + 0.05 * (i % 3):.4f} {z:.4f} "
+                     f"{0.6 / side:.4f} {material}")
+    path.write_text("\n".join(lines) + "\n")
+    return path

@@ -11,9 +11,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import BIN, ROOT, chapter_name
 
-ROOT = Path(__file__).resolve().parents[3]
-BIN = ROOT / "build" / "bin"
+from course_tools import chapters
 from course_tools.bench import mitsuba as bench
 from course_tools.bench import bvh as bench_bvh
 from course_tools.bench import common as bench_common
@@ -24,9 +24,7 @@ SUMMARY_KEYS = {"median", "min", "max", "spread", "runs"}
 
 
 def chapters_built() -> list[str]:
-    text = (ROOT / "CMakeLists.txt").read_text()
-    import re
-    return re.findall(r"^add_chapter\((\w+)\)", text, flags=re.M)
+    return chapters.names(ROOT)
 
 
 def tiny_scenes() -> list[bench.Scene]:
@@ -256,39 +254,45 @@ def test_the_bvh_bench_repeats_and_writes_the_book_only_when_asked(tiny_bvh_benc
     assert page.read_text().startswith(head) and page.read_text().endswith(tail)
 
 
-# ---------------------------------------------------------------- chapter 19's speed bench
+# ---------------------------------------------------------------- chapters 19-21's speed bench
+
+def page_copies(pages: dict, folder: Path) -> dict:
+    """Each page of a bench copied into folder, with its markers: the bench writes there."""
+    copies = {}
+    for number, (page, start, end) in pages.items():
+        (folder / page.name).write_text(page.read_text())
+        copies[number] = (folder / page.name, start, end)
+    return copies
+
 
 @pytest.fixture(scope="module")
 def tiny_speed_bench(tmp_path_factory):
-    """bench_speed with three of its rows and two compile rows, tiny, twice over: once
-    without --update-book (on a copy of the chapter's page), once with."""
+    """bench_speed with the Cornell box's rows, the teapot's priced trees and two compile
+    rows, tiny, twice over: once without --update-book (on copies of the chapters'
+    pages), once with."""
     from course_tools.bench import speed as bench_speed
-    binaries = {"18": BIN / "18_environment", "19": BIN / "19_speed"}
-    for program in binaries.values():
-        if not program.exists():
-            pytest.skip(f"{program.name} is not built")
-    rows = [row for row in bench_speed.ROWS if row.scene == "cornell_box" and
-            row.label in ("chapter 18", "buffer textures", "constants, written out",
-                          "storage buffers", "uniform blocks",
-                          "generic shader, storage buffers")]
+    binaries = {number: BIN / chapter_name(number) for number in ("18", "19", "20", "21")}
+    rows = [row for row in bench_speed.ROWS if row.scene == "cornell_box" or
+            (row.table == "price" and row.scene == "cornell_teapot")]
     compiled = [row for row in bench_speed.COMPILED if row.scene == "cornell_box" and
                 row.label in ("buffer textures", "chapter 18")]
     folder = tmp_path_factory.mktemp("speed")
-    page = folder / "19_speed.md"
-    page.write_text(bench_speed.PAGE.read_text())
-    book_before, page_before = bench_speed.PAGE.read_text(), page.read_text()
+    pages = page_copies(bench_speed.PAGES, folder)
+    book_before = {n: page.read_text() for n, (page, _, _) in bench_speed.PAGES.items()}
+    before = {n: page.read_text() for n, (page, _, _) in pages.items()}
     settings = bench_speed.Settings(size=16, spp=1, depth=2, repeat=2)
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(bench_speed, "ROWS", tuple(rows))
         patch.setattr(bench_speed, "COMPILED", compiled)
-        bench_speed.main(binaries, settings, update_book=False, page=page,
-                         out_folder=folder / "out")
-        unchanged = page.read_text() == page_before
-        bench_speed.main(binaries, settings, update_book=True, page=page,
-                         out_folder=folder / "out")
+        report = bench_speed.bench(binaries, settings)  # once: the rows' runs take most
+        bench_speed.publish(report, update_book=False, pages=pages, out_folder=folder / "out")
+        unchanged = all(page.read_text() == before[n] for n, (page, _, _) in pages.items())
+        bench_speed.publish(report, update_book=True, pages=pages, out_folder=folder / "out")
     return {"report": json.loads((folder / "out" / "speed.json").read_text()),
-            "unchanged": unchanged, "page": page.read_text(),
-            "book_unchanged": bench_speed.PAGE.read_text() == book_before}
+            "unchanged": unchanged,
+            "pages": {n: page.read_text() for n, (page, _, _) in pages.items()},
+            "book_unchanged": all(page.read_text() == book_before[n]
+                                  for n, (page, _, _) in bench_speed.PAGES.items())}
 
 
 def test_the_speed_bench_gives_medians_of_the_runs(tiny_speed_bench):
@@ -301,44 +305,52 @@ def test_the_speed_bench_gives_medians_of_the_runs(tiny_speed_bench):
     assert len(report["compile_seconds"]) == 2
     automatic = [row["label"] for row in report["rows"].values() if row["chapter"] == "18"]
     assert automatic == ["chapter 18"]
+    assert {row["chapter"] for row in report["rows"].values()} == {"18", "19", "20", "21"}
 
 
-def test_the_speed_bench_writes_its_page_only_when_asked(tiny_speed_bench):
+def test_the_speed_bench_writes_each_chapters_page_only_when_asked(tiny_speed_bench):
     assert tiny_speed_bench["unchanged"] and tiny_speed_bench["book_unchanged"]
-    page = tiny_speed_bench["page"]
-    assert "Each figure is the median of 2 runs" in page
-    assert "| cornell_box | constants, written out |" in page
-    assert "| storage buffers ÷ buffer textures |" in page
+    pages = tiny_speed_bench["pages"]
+    for page in pages.values():
+        assert "Each figure is the median of 2 runs" in page
+    assert "| cornell_box | chapter 19 (automatic: constants) |" in pages["19"]
+    assert "| generic ÷ specialised, both storage buffers |" in pages["19"]
+    assert "| cornell_box | uniform blocks |" in pages["20"]
+    assert "| storage buffers ÷ buffer textures |" in pages["20"]
+    for number in ("19", "21"):  # the memory table is chapter 20's alone
+        assert "| uniform blocks |" not in pages[number]
+    assert "| cornell_teapot | leaves priced as the walk runs them |" in pages["21"]
+    assert "| leaves priced as run ÷ by count, the teapot |" in pages["21"]
 
 
-# ---------------------------------------------------------------- chapter 20's wavefront bench
+# ---------------------------------------------------------------- chapters 22-23's kernels bench
 
 @pytest.fixture(scope="module")
 def tiny_wavefront_bench(tmp_path_factory):
     """bench_wavefront with the Cornell box's rows, tiny, twice over: once without
-    --update-book (on a copy of the chapter's page), once with."""
+    --update-book (on copies of the chapters' pages), once with."""
     from course_tools.bench import wavefront as bench_wavefront
-    program = BIN / "20_wavefront"
-    assert program.exists(), f"{program.name} is not built"
+    binaries = {number: BIN / chapter_name(number) for number in ("22", "23")}
     rows = tuple(bench_wavefront.Row(table, "cornell_box", kernel, size)
                  for table, size in (("scenes", 16), ("sizes", 24))
                  for kernel in bench_wavefront.KERNELS)
     folder = tmp_path_factory.mktemp("wavefront")
-    page = folder / "20_wavefront.md"
-    page.write_text(bench_wavefront.PAGE.read_text())
-    book_before, page_before = bench_wavefront.PAGE.read_text(), page.read_text()
+    pages = page_copies(bench_wavefront.PAGES, folder)
+    book_before = {n: page.read_text() for n, (page, _, _) in bench_wavefront.PAGES.items()}
+    before = {n: page.read_text() for n, (page, _, _) in pages.items()}
     settings = bench_wavefront.Settings(spp=2, depth=2, repeat=2)  # 2 a dispatch
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(bench_wavefront, "ROWS", rows)
         patch.setattr(bench_wavefront, "SCENES", (("cornell_box", "1: diffuse"),))
-        bench_wavefront.main(program, settings, update_book=False, page=page,
-                             out_folder=folder / "out")
-        unchanged = page.read_text() == page_before
-        bench_wavefront.main(program, settings, update_book=True, page=page,
-                             out_folder=folder / "out")
+        report = bench_wavefront.bench(binaries, settings)  # once: the rows' runs take most
+        bench_wavefront.publish(report, update_book=False, pages=pages, out_folder=folder / "out")
+        unchanged = all(page.read_text() == before[n] for n, (page, _, _) in pages.items())
+        bench_wavefront.publish(report, update_book=True, pages=pages, out_folder=folder / "out")
     return {"report": json.loads((folder / "out" / "wavefront.json").read_text()),
-            "unchanged": unchanged, "page": page.read_text(),
-            "book_unchanged": bench_wavefront.PAGE.read_text() == book_before}
+            "unchanged": unchanged,
+            "pages": {n: page.read_text() for n, (page, _, _) in pages.items()},
+            "book_unchanged": all(page.read_text() == book_before[n]
+                                  for n, (page, _, _) in bench_wavefront.PAGES.items())}
 
 
 def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
@@ -354,13 +366,18 @@ def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
             assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
 
 
-def test_the_wavefront_bench_writes_its_page_only_when_asked(tiny_wavefront_bench):
+def test_the_wavefront_bench_writes_each_chapters_page_only_when_asked(tiny_wavefront_bench):
     assert tiny_wavefront_bench["unchanged"] and tiny_wavefront_bench["book_unchanged"]
-    page = tiny_wavefront_bench["page"]
-    assert "Each figure is the median of 2 runs" in page
-    assert "| cornell_box | 1: diffuse | wavefront | 1 |" in page
-    assert "| cornell_box | 24² | megakernel | 1 |" in page
-    assert "| cornell_box | 24² | regenerating | 2 |" in page
+    regeneration, wavefront = tiny_wavefront_bench["pages"]["22"], \
+        tiny_wavefront_bench["pages"]["23"]
+    for page in (regeneration, wavefront):
+        assert "Each figure is the median of 2 runs" in page
+        assert "| cornell_box | 24² | megakernel | 1 |" in page
+        assert "| cornell_box | 24² | regenerating | 2 |" in page
+        assert "| cornell_box (1: diffuse) |" in page
+    assert "| cornell_box | 1: diffuse | wavefront | 1 |" in wavefront
     assert ("| samples/s ÷ megakernel's, 16² | regenerating: this machine | "
-            "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") in page
-    assert "| cornell_box (1: diffuse) |" in page
+            "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") \
+        in wavefront
+    block = regeneration.split("<!-- regeneration:start -->")[1].split("<!-- regeneration:end -->")[0]
+    assert "wavefront" not in block

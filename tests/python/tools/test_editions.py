@@ -11,7 +11,7 @@ Which lines count as "a line of a solution" (solution_lines below):
   say what the code does);
 - not given code: a line that also stands outside the chapter's SOLUTION blocks, in
   an earlier chapter (whose solutions a later starter hands down as given code), or in
-  common/, is in the starter legitimately (`}`; chapter 05's
+  common/, or stands inside such a line, is in the starter legitimately (`}`; chapter 05's
   `return t > tMin && t < tMax;`, from chapter 04's sphere test; chapter 03's pixel
   centre, computed as in chapter 02's pattern), so it proves nothing.
 
@@ -84,13 +84,21 @@ def code_outside_blocks_anywhere() -> frozenset[str]:
     return frozenset(code)
 
 
+@lru_cache(maxsize=None)
+def given_text(chapter: str) -> str:
+    """The given code's lines, one a line: a solution line found inside one of them (the
+    restart `path = startPath(...)` inside the given `PathState path = startPath(...)`)
+    is in the starter legitimately, as a whole given line is."""
+    return "\n".join(sorted(given_code(chapter)))
+
+
 def solution_lines(chapter: str, for_the_book: bool = False) -> dict[str, str]:
     """The lines that count (see the module's docstring): code -> 'file:line'."""
     counted = {}
     for block in editions.solution_blocks(ROOT, chapter):
         for offset, line in enumerate(block.body):
             code = editions.code_of(line)
-            if not code or code in given_code(chapter):
+            if not code or code in given_code(chapter) or code in given_text(chapter):
                 continue
             if for_the_book and len(code) < IDIOM_LENGTH \
                     and code in code_outside_blocks_anywhere():

@@ -37,6 +37,7 @@ pytestmark = pytest.mark.skipif(os.geteuid() != 0, reason="the grader separates 
                                 "when it runs as root (as on Gradescope)")
 
 INCLUDES = """#include <arpa/inet.h>
+#include <dirent.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -221,6 +222,46 @@ def test_overwriting_the_references_and_results_json(starter, tmp_path):
     assert f"cannot write {reference}" in output and f"cannot write {results_json}" in output
     assert hashlib.sha256(reference.read_bytes()).hexdigest() == before
     assert '"score": 0' in results_json.read_text()
+
+
+def test_reading_or_poisoning_the_kept_objects(starter, tmp_path):
+    """The compiled objects later gradings reuse, in the per-user cache so that a clean
+    clone finds them (grader.object_cache): a submission can neither list them nor
+    leave one of its own there for the next submission to link."""
+    cache = grader.object_cache(BUILD)
+    planted = cache / "planted.o"
+    code = f"""
+    bool any = false;
+    if (DIR* dir = opendir({c_string(cache)})) {{ closedir(dir); any = true; }}
+    else std::fprintf(stderr, "cannot list %s: %s\\n", {c_string(cache)}, std::strerror(errno));
+    if (FILE* file = std::fopen({c_string(planted)}, "wb")) {{ std::fclose(file); any = true; }}
+    else std::fprintf(stderr, "cannot write %s: %s\\n", {c_string(planted)},
+                      std::strerror(errno));
+    std::fprintf(stderr, any ? "reached the kept objects\\n" : "kept out\\n");
+    return 1;  // its messages in the report"""
+    results, output, _, _ = grade(hostile(starter, tmp_path / "s", code), tmp_path)
+    assert results["score"] == 0 and "kept out" in output, output
+    assert f"cannot list {cache}" in output and f"cannot write {planted}" in output
+    assert not planted.exists()
+
+
+def test_the_staging_copy_is_named_by_its_files_contents(tmp_path):
+    """Two clones of the same tree, built at different times, stage the compiler's
+    folders to the same place: the arguments, and so the kept objects' keys, match."""
+    places = []
+    for clone, when in (("a", 1_000_000_000), ("b", 1_700_000_000)):
+        root, build = tmp_path / clone, tmp_path / clone / "build"
+        (root / "common").mkdir(parents=True)
+        (build / "generated").mkdir(parents=True)
+        for path, text in ((root / "common" / "a.h", "int a;\n"),
+                           (build / "generated" / "b.h", "int b;\n")):
+            path.write_text(text)
+            os.utime(path, (when, when))
+        arguments = [f"-I{root / 'common'}", f"-I{build / 'generated'}"]
+        staging = grader.Staging(root, build, "04_spheres", arguments, [], tmp_path / "base")
+        places.append(staging.path.name)
+        assert (staging.path / "source" / "common" / "a.h").read_text() == "int a;\n"
+    assert places[0] == places[1]
 
 
 def test_a_link_to_the_reference_instead_of_an_image(starter, tmp_path):

@@ -16,7 +16,7 @@ def test_each_check_is_given_to_the_chapter_it_names():
         "tests/python/tools/test_grading_statistics.py::test_catalogue_variant[16-wrong-no_tir]":
             ("16", "grading"),
         "tests/python/tools/test_grading.py::test_solution_full_marks_and_starter_near_zero"
-        "[20_wavefront]": ("20", "grading"),
+        "[23_wavefront]": ("23", "grading"),
         "tests/python/tools/test_classroom.py::test_starter_builds_runs_and_is_wrong"
         "[A1_gl33_fragment]": ("A1", "grading"),
         "tests/python/tools/test_book.py::test_book_builds_strictly_with_real_figures": None,

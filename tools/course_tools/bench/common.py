@@ -199,8 +199,17 @@ def publish(report: dict, out: Path, table: str, update_book: bool, page: Path, 
             end: str):
     """The end of a bench: every run in `out` (JSON), the table printed, and written into
     the page only when asked (book_or_not)."""
+    publish_pages(report, out, {page: table}, {page: (page, start, end)}, update_book)
+
+
+def publish_pages(report: dict, out: Path, tables: dict, pages: dict, update_book: bool):
+    """publish() for a bench whose tables go to several pages: pages maps a name to
+    (page, start marker, end marker), tables the same name to its table. The report is
+    written once."""
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(report, indent=2) + "\n")
-    print(table)
+    for name in pages:
+        print(tables[name])
     print(f"bench: wrote {out}")
-    book_or_not(update_book, page, start, end, table)
+    for name, (page, start, end) in pages.items():
+        book_or_not(update_book, page, start, end, tables[name])

@@ -1,17 +1,20 @@
-"""./course bench speed: the figures of chapter 19 (speed), each the median of repeated
-runs that take turns, on one machine, in one run of the bench.
+"""./course bench speed: the figures of chapters 19 (specialisation), 20 (memory paths)
+and 21 (a tree priced as it runs), each the median of repeated runs that take turns, on
+one machine, in one run of the bench.
 
-- **The scenes**: the Cornell box (18 quads), the teapot in the Cornell room (6 320
+- **The scenes** (19): the Cornell box (18 quads), the teapot in the Cornell room (6 320
   triangles through the tree) and the sky showcase (50 spheres, a quad, the sky),
   through chapter 18 (one generic shader, everything in storage buffers) and through
   chapter 19 with its automatic choice.
-- **Where the scene is read from** (the Cornell box): storage buffers, uniform blocks,
-  buffer textures, constants written out into the shader; and the generic shader,
-  every feature compiled in (--generic), against the same storage buffers specialised.
-- **The tree** (the teapot, and the million-triangle teapot in the same room): its
-  nodes and triangles from storage buffers or buffer textures, and its leaves priced as
-  the four tests they run or by count (chapter 14's tree); the million's rays per second
-  against the 6 320's.
+- **Specialisation** (19): the generic shader, every feature compiled in (--generic),
+  against the same storage buffers specialised, and constants written out into the
+  shader; the Cornell box and the showcase.
+- **Where the scene is read from** (20): storage buffers, uniform blocks, buffer
+  textures, constants written out; the tree's nodes and triangles from storage buffers
+  or buffer textures (the teapot, and the million-triangle teapot in the same room).
+- **The tree's price** (21): chapter 20's tree and walk against chapter 21's walk with
+  leaves priced by count (chapter 14's tree) and priced as the four tests they run; the
+  million's rays per second against the 6 320's.
 - **Compile time**: the path tracer's shader compiled with Mesa's shader cache off
   (MESA_SHADER_CACHE_DISABLE), the whole run of a 16 x 16 image at 1 sample, for the
   Cornell box and the sky showcase each way.
@@ -19,8 +22,8 @@ runs that take turns, on one machine, in one run of the bench.
 After an untimed warm-up of each row, the rows take turns for --repeat rounds; each
 figure is the median of its runs with their range. Speeds are samples per second as
 the chapters count them (--json), and the GPU's own time (chapter 19's timestamps).
-Writes build/bench/speed.json and prints the tables; writes them into the speed
-chapter's page only with --update-book."""
+Writes build/bench/speed.json and prints the tables; writes each chapter's tables into
+its page only with --update-book."""
 
 from __future__ import annotations
 
@@ -36,8 +39,11 @@ from course_tools.bench import common as bench_common
 
 from course_tools.paths import ROOT
 
-PAGE = ROOT / "book" / "docs" / "chapters" / "19_speed.md"
-START, END = "<!-- speed:start -->", "<!-- speed:end -->"
+CHAPTERS = ROOT / "book" / "docs" / "chapters"
+# The block of each page that the bench writes: page, start marker, end marker.
+PAGES = {"19": (CHAPTERS / "19_specialisation.md", "<!-- speed:start -->", "<!-- speed:end -->"),
+         "20": (CHAPTERS / "20_memory_paths.md", "<!-- memory:start -->", "<!-- memory:end -->"),
+         "21": (CHAPTERS / "21_tree_price.md", "<!-- tree:start -->", "<!-- tree:end -->")}
 OUT = ROOT / "build" / "bench"
 
 
@@ -46,42 +52,41 @@ class Row:
     table: str     # which table it belongs to
     scene: str     # assets/scenes/NAME.scene
     label: str     # what the table calls it
-    chapter: str   # "18" or "19"
+    chapter: str   # "18" to "21"
     options: tuple = ()
 
 
+STORAGE, CONSTANTS = ("--scene-memory", "storage"), ("--scene-memory", "constants")
 # The tree rows whose leaves are priced as chapter 14 priced them (--bvh-leaves-by-count).
 LEAVES_BY_COUNT = "leaves priced by count (chapter 14's tree)"
+LEAVES_AS_RUN = "leaves priced as the walk runs them"
+CHAPTER_20_TREE = "chapter 20 (chapter 18's walk)"
 ROWS = (
-    Row("scenes", "cornell_box", "chapter 18", "18"),
-    Row("scenes", "cornell_box", "chapter 19 (automatic)", "19"),
-    Row("scenes", "cornell_teapot", "chapter 18", "18"),
-    Row("scenes", "cornell_teapot", "chapter 19 (automatic)", "19"),
-    Row("scenes", "sky_showcase", "chapter 18", "18"),
-    Row("scenes", "sky_showcase", "chapter 19 (automatic)", "19"),
-    Row("memory", "cornell_box", "generic shader, storage buffers", "19", ("--generic",)),
-    Row("memory", "cornell_box", "storage buffers", "19", ("--scene-memory", "storage")),
-    Row("memory", "cornell_box", "uniform blocks", "19", ("--scene-memory", "uniform")),
-    Row("memory", "cornell_box", "buffer textures", "19", ("--scene-memory", "texture")),
-    Row("memory", "cornell_box", "constants, written out", "19",
-        ("--scene-memory", "constants")),
-    Row("memory", "sky_showcase", "buffer textures", "19", ("--scene-memory", "texture")),
-    Row("memory", "sky_showcase", "constants, written out", "19",
-        ("--scene-memory", "constants")),
-    Row("tree", "cornell_teapot", "tree in storage buffers", "19",
-        ("--bvh-memory", "storage")),
-    Row("tree", "cornell_teapot", "tree in buffer textures", "19",
-        ("--bvh-memory", "texture")),
-    Row("tree", "cornell_teapot_million", "tree in storage buffers", "19",
-        ("--bvh-memory", "storage")),
-    Row("tree", "cornell_teapot_million", "tree in buffer textures", "19",
-        ("--bvh-memory", "texture")),
-    Row("tree", "cornell_teapot", LEAVES_BY_COUNT, "19",
-        ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
-    Row("tree", "cornell_teapot_million", LEAVES_BY_COUNT, "19",
-        ("--bvh-memory", "texture", "--bvh-leaves-by-count")),
+    *(Row("scenes", scene, label, chapter)
+      for scene in ("cornell_box", "cornell_teapot", "sky_showcase")
+      for label, chapter in (("chapter 18", "18"), ("chapter 19 (automatic)", "19"))),
+    Row("specialisation", "cornell_box", "generic shader, storage buffers", "19",
+        ("--generic",)),
+    Row("specialisation", "cornell_box", "storage buffers", "19", STORAGE),
+    Row("specialisation", "cornell_box", "constants, written out", "19", CONSTANTS),
+    Row("specialisation", "sky_showcase", "storage buffers", "19", STORAGE),
+    Row("specialisation", "sky_showcase", "constants, written out", "19", CONSTANTS),
+    Row("memory", "cornell_box", "storage buffers", "20", STORAGE),
+    Row("memory", "cornell_box", "uniform blocks", "20", ("--scene-memory", "uniform")),
+    Row("memory", "cornell_box", "buffer textures", "20", ("--scene-memory", "texture")),
+    Row("memory", "cornell_box", "constants, written out", "20", CONSTANTS),
+    Row("memory", "sky_showcase", "buffer textures", "20", ("--scene-memory", "texture")),
+    Row("memory", "sky_showcase", "constants, written out", "20", CONSTANTS),
+    *(Row("tree", scene, f"tree in {where}", "20", ("--bvh-memory", memory))
+      for scene in ("cornell_teapot", "cornell_teapot_million")
+      for where, memory in (("storage buffers", "storage"), ("buffer textures", "texture"))),
+    *(Row("price", scene, label, chapter, options)
+      for scene in ("cornell_teapot", "cornell_teapot_million")
+      for label, chapter, options in ((CHAPTER_20_TREE, "20", ()),
+                                      (LEAVES_BY_COUNT, "21", ("--bvh-leaves-by-count",)),
+                                      (LEAVES_AS_RUN, "21", ()))),
 )
-COMPILED = [row for row in ROWS if row.table == "memory"] + \
+COMPILED = [row for row in ROWS if row.table in ("specialisation", "memory")] + \
     [Row("compile", "cornell_box", "chapter 18", "18"),
      Row("compile", "sky_showcase", "chapter 18", "18")]
 
@@ -184,49 +189,71 @@ def table(report: dict, which: str, baseline: str) -> list[str]:
 
 def million_words(report: dict) -> list[str]:
     """The million-triangle teapot's rays per second against the 6 320-triangle one's,
-    both through buffer textures: how the tree's cost grows with the mesh."""
+    for each tree and walk: how the tree's cost grows with the mesh, and what pricing the
+    leaves as the walk runs them gains."""
     rows = report["rows"]
-    big = rows.get("tree: cornell_teapot_million: tree in buffer textures")
-    small = rows.get("tree: cornell_teapot: tree in buffer textures")
-    if not big or not small:
+    figure = {(scene, label): rows.get(f"price: {scene}: {label}")
+              for scene in ("cornell_teapot", "cornell_teapot_million")
+              for label in (CHAPTER_20_TREE, LEAVES_BY_COUNT, LEAVES_AS_RUN)}
+    if not all(figure.values()):
         return []
-    ratio = big["rays_per_second"]["median"] / small["rays_per_second"]["median"]
-    words = (f"Through buffer textures, the million-triangle teapot traces {ratio:.2f} "
-             "times the rays per second of the 6 320-triangle one.")
-    by_count = {scene: rows.get(f"tree: {scene}: {LEAVES_BY_COUNT}")
-                for scene in ("cornell_teapot", "cornell_teapot_million")}
-    if all(by_count.values()):
-        gain = [row["rays_per_second"]["median"] / by_count[scene]["rays_per_second"]["median"]
-                for scene, row in (("cornell_teapot", small), ("cornell_teapot_million", big))]
-        before = (by_count["cornell_teapot_million"]["rays_per_second"]["median"] /
-                  by_count["cornell_teapot"]["rays_per_second"]["median"])
-        words += (f" Leaves priced as the four tests they run made the teapot {gain[0]:.2f} "
-                  f"times and the million {gain[1]:.2f} times as fast as leaves priced by "
-                  f"count; priced by count, the million traced {before:.2f} times the "
-                  "6 320's rays per second.")
-    return [words, ""]
 
-RATIOS = (  # (what, scene, numerator's label, denominator's label), from the tables
-    ("storage buffers ÷ buffer textures", "cornell_box", "storage buffers", "buffer textures"),
-    ("uniform blocks ÷ buffer textures", "cornell_box", "uniform blocks", "buffer textures"),
-    ("constants ÷ buffer textures", "cornell_box", "constants, written out",
-     "buffer textures"),
-    ("generic ÷ specialised, both storage buffers", "cornell_box",
-     "generic shader, storage buffers", "storage buffers"),
-)
+    def rays(scene, label):
+        return figure[(scene, label)]["rays_per_second"]["median"]
+    growth = {label: rays("cornell_teapot_million", label) / rays("cornell_teapot", label)
+              for label in (CHAPTER_20_TREE, LEAVES_AS_RUN)}
+    gain = {scene: rays(scene, LEAVES_AS_RUN) / rays(scene, LEAVES_BY_COUNT)
+            for scene in ("cornell_teapot", "cornell_teapot_million")}
+    return [f"Leaves priced as the four tests they run made the teapot {gain['cornell_teapot']:.2f} "
+            f"times and the million {gain['cornell_teapot_million']:.2f} times as fast as "
+            "leaves priced by count, both walked this chapter's way. The million-triangle "
+            f"teapot traces {growth[LEAVES_AS_RUN]:.2f} times the rays per second of the "
+            f"6 320-triangle one here, and {growth[CHAPTER_20_TREE]:.2f} times in chapter 20.",
+            ""]
 
 
-def ratio_rows(report: dict) -> list[str]:
+RATIOS = {  # page: (what, table, scene, numerator's label, denominator's label)
+    "19": (("generic ÷ specialised, both storage buffers", "specialisation", "cornell_box",
+            "generic shader, storage buffers", "storage buffers"),
+           ("constants ÷ storage buffers", "specialisation", "cornell_box",
+            "constants, written out", "storage buffers")),
+    "20": (("storage buffers ÷ buffer textures", "memory", "cornell_box", "storage buffers",
+            "buffer textures"),
+           ("uniform blocks ÷ buffer textures", "memory", "cornell_box", "uniform blocks",
+            "buffer textures"),
+           ("constants ÷ buffer textures", "memory", "cornell_box", "constants, written out",
+            "buffer textures")),
+    "21": (("leaves priced as run ÷ by count, the teapot", "price", "cornell_teapot",
+            LEAVES_AS_RUN, LEAVES_BY_COUNT),
+           ("leaves priced as run ÷ by count, the million", "price", "cornell_teapot_million",
+            LEAVES_AS_RUN, LEAVES_BY_COUNT)),
+}
+
+
+def ratio_rows(report: dict, page: str) -> list[str]:
     """The ratios a learner with a GPU compares with theirs (an empty column to fill)."""
-    lines = ["| the Cornell box, samples/s | this machine | your GPU |",
-             "| --- | ---: | ---: |"]
-    for what, scene, top, bottom in RATIOS:
-        ratio = median(report, "memory", scene, top) / median(report, "memory", scene, bottom)
+    lines = ["| samples/s | this machine | your GPU |", "| --- | ---: | ---: |"]
+    for what, which, scene, top, bottom in RATIOS[page]:
+        if f"{which}: {scene}: {top}" not in report["rows"] or \
+                f"{which}: {scene}: {bottom}" not in report["rows"]:
+            continue
+        ratio = median(report, which, scene, top) / median(report, which, scene, bottom)
         lines.append(f"| {what} | {ratio:.2f} | |")
     return lines
 
 
-def page_table(report: dict) -> str:
+# Each page's tables: (caption, table, baseline label).
+TABLES = {"19": (("The scenes, chapter 18 against chapter 19:", "scenes", "chapter 18"),
+                 ("Specialisation, and a small scene written out:", "specialisation",
+                  "storage buffers")),
+          "20": (("Where the scene is read from:", "memory", "buffer textures"),
+                 ("The tree's nodes and triangles:", "tree", "tree in storage buffers")),
+          "21": (("The tree's leaves priced two ways, and chapter 20's walk:", "price",
+                  LEAVES_BY_COUNT),)}
+
+
+def page_table(report: dict, page: str) -> str:
+    """One page's block: the machine and settings, its tables, its ratios."""
     s, machine = report["settings"], report["machine"]
     heading = (f"Measured {report['date']} on {bench_common.machine_words(machine)}; "
                f"{s['size']}², {s['spp']} spp, depth {s['depth']}. Each figure is the median "
@@ -234,20 +261,26 @@ def page_table(report: dict) -> str:
                "compile times are whole runs of a 16 × 16 image at 1 sample with Mesa's "
                f"shader cache off, median of {s['repeat']}. "
                f"{bench_common.quiet_words(report['quiet'])}")
-    return "\n".join([heading, "", "The scenes, chapter 18 against chapter 19:", "",
-                      *table(report, "scenes", "chapter 18"), "",
-                      "Where the scene is read from, and specialisation:", "",
-                      *table(report, "memory", "buffer textures"), "",
-                      "The tree's nodes and triangles:", "",
-                      *table(report, "tree", "tree in storage buffers"), "",
-                      *million_words(report),
-                      "The ratios to compare with a GPU's (the same bench there):", "",
-                      *ratio_rows(report)])
+    lines = [heading, ""]
+    for caption, which, baseline in TABLES[page]:
+        if any(row["table"] == which for row in report["rows"].values()):
+            lines += [caption, "", *table(report, which, baseline), ""]
+    if page == "21":
+        lines += million_words(report)
+    return "\n".join([*lines, "The ratios to compare with a GPU's (the same bench there):",
+                      "", *ratio_rows(report, page)])
 
 
-def main(binaries: dict, settings: Settings, update_book: bool = False, page: Path = PAGE,
-         out_folder: Path = OUT) -> int:
-    report = bench(binaries, settings)
-    bench_common.publish(report, out_folder / "speed.json", page_table(report), update_book,
-                         page, START, END)
+def publish(report: dict, update_book: bool = False, pages: dict = PAGES,
+            out_folder: Path = OUT):
+    """The report in out_folder (speed.json), its tables printed, and each page's block
+    written into the page only with update_book."""
+    bench_common.publish_pages(report, out_folder / "speed.json",
+                               {number: page_table(report, number) for number in pages},
+                               pages, update_book)
+
+
+def main(binaries: dict, settings: Settings, update_book: bool = False,
+         pages: dict = PAGES, out_folder: Path = OUT) -> int:
+    publish(bench(binaries, settings), update_book, pages, out_folder)
     return 0

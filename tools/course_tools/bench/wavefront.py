@@ -1,10 +1,11 @@
-"""./course bench wavefront: the figures of chapter 20 (wavefront path tracing), each the
-median of repeated runs that take turns, on one machine, in one run of the bench.
+"""./course bench wavefront: the figures of chapters 22 (path regeneration) and 23
+(wavefront path tracing), each the median of repeated runs that take turns, on one
+machine, in one run of the bench.
 
-- **The kernels**: chapter 20's megakernel (one invocation follows a pixel's path to
-  its end) one sample a dispatch, as chapter 19 runs it; the same megakernel
-  regenerating paths (as many samples a dispatch as it chooses: its default); and its
-  wavefront (a kernel per step over queues of paths). On scenes of one, two and four
+- **The kernels**: chapter 22's megakernel (one invocation follows a pixel's path to
+  its end) one sample a dispatch, as chapter 21 runs it; the same megakernel
+  regenerating paths (as many samples a dispatch as it chooses: its default); and
+  chapter 23's wavefront (a kernel per step over queues of paths). On scenes of one, two and four
   kinds of material: the Cornell box (18 quads, diffuse), the teapot in the Cornell
   room (6 320 triangles through the tree), the glass and metal spheres in the room,
   and the sky showcase (50 spheres of every kind, the sky).
@@ -14,8 +15,9 @@ median of repeated runs that take turns, on one machine, in one run of the bench
 
 After an untimed warm-up of each row, the rows take turns for --repeat rounds; each
 figure is the median of its runs with their range. Speeds are samples per second as
-the chapter counts them (--json). Writes build/bench/wavefront.json and prints the
-tables; writes them into chapter 20's page only with --update-book."""
+the chapters count them (--json). Writes build/bench/wavefront.json and prints the
+tables; writes them into the chapters' pages only with --update-book: the megakernel
+one sample a dispatch and regenerating into chapter 22's, every kernel into 23's."""
 
 from __future__ import annotations
 
@@ -27,13 +29,20 @@ from course_tools.bench.speed import run
 
 from course_tools.paths import ROOT
 
-PAGE = ROOT / "book" / "docs" / "chapters" / "20_wavefront.md"
-START, END = "<!-- wavefront:start -->", "<!-- wavefront:end -->"
+CHAPTERS = ROOT / "book" / "docs" / "chapters"
+# The block of each page that the bench writes (page, start marker, end marker), and the
+# kernels its tables show.
+PAGES = {"22": (CHAPTERS / "22_path_regeneration.md", "<!-- regeneration:start -->",
+                "<!-- regeneration:end -->"),
+         "23": (CHAPTERS / "23_wavefront.md", "<!-- wavefront:start -->",
+                "<!-- wavefront:end -->")}
 OUT = ROOT / "build" / "bench"
-# The ways of running chapter 20 that the bench compares, and their options.
-KERNELS = {"megakernel": ("--kernel", "megakernel", "--samples-per-dispatch", "1"),
-           "regenerating": ("--kernel", "megakernel"),
-           "wavefront": ("--kernel", "wavefront")}
+# The ways of running the path tracer that the bench compares: the chapter whose
+# program runs it, and its options.
+KERNELS = {"megakernel": ("22", ("--samples-per-dispatch", "1")),
+           "regenerating": ("22", ()),
+           "wavefront": ("23", ("--kernel", "wavefront"))}
+SHOWN = {"22": ("megakernel", "regenerating"), "23": tuple(KERNELS)}
 BASE = "megakernel"  # the speeds are given as multiples of its
 
 
@@ -43,11 +52,14 @@ class Row:
     scene: str    # assets/scenes/NAME.scene
     kernel: str   # a key of KERNELS
     size: int     # width and height
-    chapter: str = "20"
+
+    @property
+    def chapter(self) -> str:
+        return KERNELS[self.kernel][0]
 
     @property
     def options(self) -> tuple:
-        return KERNELS[self.kernel]
+        return KERNELS[self.kernel][1]
 
     @property
     def key(self) -> str:
@@ -68,9 +80,8 @@ class Settings:
     repeat: int = 3
 
 
-def bench(binary: Path, settings: Settings) -> dict:
+def bench(binaries: dict, settings: Settings) -> dict:
     watch = bench_common.QuietWatch()
-    binaries = {"20": binary}
     runs = {row.key: [] for row in ROWS}
     print("bench wavefront: warm-up (1 spp, not timed) ...", flush=True)
     first = None
@@ -99,14 +110,14 @@ def speed(report: dict, table: str, scene: str, size: int, kernel: str) -> dict:
     return report["rows"][f"{table}: {scene}: {size}: {kernel}"]["samples_per_second"]
 
 
-def table(report: dict, which: str) -> list[str]:
+def table(report: dict, which: str, kernels: tuple) -> list[str]:
     kinds = dict(SCENES)
     first = "kinds of material" if which == "scenes" else "image"
     lines = [f"| scene | {first} | kernel | samples a dispatch | samples/s | "
              f"range of the runs (spread) | rays/s | ÷ {BASE} |",
              "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |"]
     for row in report["rows"].values():
-        if row["table"] != which:
+        if row["table"] != which or row["kernel"] not in kernels:
             continue
         samples = row["samples_per_second"]
         base = speed(report, which, row["scene"], row["size"], BASE)["median"]
@@ -119,12 +130,12 @@ def table(report: dict, which: str) -> list[str]:
     return lines
 
 
-def ratio_rows(report: dict) -> list[str]:
+def ratio_rows(report: dict, kernels: tuple) -> list[str]:
     """The ratios a learner with a GPU compares with theirs (empty columns to fill): the
     scenes table's, each other kernel over the megakernel, at the size that table was
     run at."""
     kinds = dict(SCENES)
-    others = [kernel for kernel in KERNELS if kernel != BASE]
+    others = [kernel for kernel in kernels if kernel != BASE]
     rows = [row for row in report["rows"].values() if row["table"] == "scenes"]
     size = rows[0]["size"] if rows else 0
     lines = [f"| samples/s ÷ {BASE}'s, {size}² | "
@@ -139,21 +150,29 @@ def ratio_rows(report: dict) -> list[str]:
     return lines
 
 
-def page_table(report: dict) -> str:
+def page_table(report: dict, page: str) -> str:
+    kernels = SHOWN[page]
     s, machine = report["settings"], report["machine"]
     heading = (f"Measured {report['date']} on {bench_common.machine_words(machine)}; "
                f"{s['spp']} spp, depth {s['depth']}. Each figure is the median of "
                f"{s['repeat']} runs, the rows taking turns, with the range of the runs. "
                f"{bench_common.quiet_words(report['quiet'])}")
-    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes"), "",
-                      "The Cornell box at other sizes:", "", *table(report, "sizes"), "",
-                      "The ratios to compare with a GPU's (the same bench there):", "",
-                      *ratio_rows(report)])
+    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes", kernels), "",
+                      "The Cornell box at other sizes:", "", *table(report, "sizes", kernels),
+                      "", "The ratios to compare with a GPU's (the same bench there):", "",
+                      *ratio_rows(report, kernels)])
 
 
-def main(binary: Path, settings: Settings, update_book: bool = False, page: Path = PAGE,
-         out_folder: Path = OUT) -> int:
-    report = bench(binary, settings)
-    bench_common.publish(report, out_folder / "wavefront.json", page_table(report), update_book,
-                         page, START, END)
+def publish(report: dict, update_book: bool = False, pages: dict = PAGES,
+            out_folder: Path = OUT):
+    """The report in out_folder (wavefront.json), its tables printed, and each page's block
+    written into the page only with update_book."""
+    bench_common.publish_pages(report, out_folder / "wavefront.json",
+                               {number: page_table(report, number) for number in pages},
+                               pages, update_book)
+
+
+def main(binaries: dict, settings: Settings, update_book: bool = False,
+         pages: dict = PAGES, out_folder: Path = OUT) -> int:
+    publish(bench(binaries, settings), update_book, pages, out_folder)
     return 0

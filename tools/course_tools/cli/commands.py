@@ -100,17 +100,17 @@ def cmd_bench(args):
                                  args.repeat, update_book=args.update_book)
     if args.which in ("all", "speed"):
         from course_tools.bench import speed as bench_speed
-        speed = [find_chapter("18"), find_chapter("19")]
+        speed = [find_chapter(number) for number in ("18", "19", "20", "21")]
         build([*speed, "course_benchmark_assets"])  # the million-triangle teapot
         settings = bench_speed.Settings(args.size, args.speed_spp, args.depth, args.repeat)
         status |= bench_speed.main({name[:2]: binary(name) for name in speed}, settings,
                                    update_book=args.update_book)
     if args.which in ("all", "wavefront"):
         from course_tools.bench import wavefront as bench_wavefront
-        wavefront = find_chapter("20")
-        build([wavefront])
+        kernels = [find_chapter("22"), find_chapter("23")]
+        build(kernels)
         settings = bench_wavefront.Settings(args.speed_spp, args.depth, args.repeat)
-        status |= bench_wavefront.main(binary(wavefront), settings,
+        status |= bench_wavefront.main({name[:2]: binary(name) for name in kernels}, settings,
                                        update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         from course_tools.bench import grading as bench_grading

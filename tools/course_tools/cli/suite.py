@@ -159,9 +159,12 @@ def build_sanitized():
 SLOW_WHEN_SANITIZED = "BigTeapots|TraversalFindsWhatBruteForceFinds"
 
 # What a chapter's sanitized run renders: small and quick; chapter 01 adds numbers, and
-# chapter 20 runs its wavefront (the host code the megakernel does not use), in waves.
+# chapter 23 runs its wavefront (the host code the megakernel does not use), in waves,
+# and chapters 20 and 21 the teapot (the tree's corners copied out, its leaves priced).
 SANITIZER_RUN_ARGUMENTS = {"01_buffer_add": ["--count", "1000"]}
-SANITIZER_EXTRA_ARGUMENTS = {"20_wavefront": ["--kernel", "wavefront", "--paths", "100"]}
+SANITIZER_EXTRA_ARGUMENTS = {"20_memory_paths": ["--scene", "cornell_teapot"],
+                             "21_tree_price": ["--scene", "cornell_teapot"],
+                             "23_wavefront": ["--kernel", "wavefront", "--paths", "100"]}
 
 
 def sanitized_chapter_runs() -> tuple[int, int]:

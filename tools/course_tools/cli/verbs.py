@@ -81,8 +81,9 @@ def bench_options(parser: argparse.ArgumentParser):
         default="all", help="which benchmark (default: mitsuba, bvh, speed and wavefront; "
         "mitsuba: the Cornell box through chapter 12 and the newest chapter, the teapot "
         "through the newest chapter with a BVH, ours and Mitsuba's runs taking turns; "
-        "speed: chapter 19's ways of reading the scene against chapter 18; wavefront: "
-        "chapter 20's megakernel against its wavefront; grading: one submission of each "
+        "speed: chapters 19 to 21 (specialisation, memory paths, the tree's price) against "
+        "chapter 18; wavefront: chapter 22's megakernel, one sample a dispatch and "
+        "regenerating, against chapter 23's wavefront; grading: one submission of each "
         "chapter on one core)")
     parser.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     parser.add_argument("--repeat", type=int, default=3,

@@ -84,13 +84,13 @@ def page_prototypes(root: Path, chapter: str) -> list[str]:
 
 
 # A check that runs another chapter's program names it as the first argument, or the
-# second after tmp_path: render(tmp_path, "12", ...), path_trace("19", tmp_path, ...).
+# second after tmp_path: render(tmp_path, "12", ...), path_trace("21", tmp_path, ...).
 CHAPTER_ARGUMENT = re.compile(r'\(\s*(?:tmp_path\s*,\s*)?"(\d\d)"')
 
 
 def reference_chapters(root: Path, chapter: str, test_files: list[Path]) -> list[str]:
     """The earlier chapters whose programs the chapter's checks run to compare with
-    (chapter 20's pictures against chapter 19's, ...). Its starter builds them, whole:
+    (chapter 23's pictures against chapter 22's, ...). Its starter builds them, whole:
     they are the student's earlier hand-ins, and this chapter's own code holds them."""
     folders = {p.name[:2]: p.name for p in (root / "chapters").iterdir() if p.is_dir()}
     numbers = {n for path in test_files for n in CHAPTER_ARGUMENT.findall(path.read_text())}

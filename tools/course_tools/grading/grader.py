@@ -130,10 +130,12 @@ class Staging:
                 if file.stat().st_size > STAGED_FILE_LIMIT:
                     continue
                 files.append((file, self.relative(file)))
+        # Named by the files' contents, not their times: a clean clone of the same tree
+        # stages to the same folder, so its compiler arguments, and the objects kept
+        # under them (object_cache), are the same as the last clone's.
         digest = hashlib.sha256()
         for file, relative in files:
-            status = file.stat()
-            digest.update(f"{relative}\0{status.st_size}\0{status.st_mtime_ns}\0".encode())
+            digest.update(f"{relative}\0{reference_cache.file_digest(file)}\0".encode())
         folder = sandbox.prepare_base(base) / "staging"
         folder.mkdir(exist_ok=True)
         os.chmod(folder, 0o711)
@@ -269,20 +271,31 @@ def keep_object(folder: Path, target: Path, depfile: Path, places):
     write_atomically(folder / f"{digest}.o", data)
 
 
+def object_cache(build: Path) -> Path:
+    """Where compiled objects are kept: in the per-user reference cache when there is one,
+    hidden from submissions as it is, so that a clean clone of the same tree finds the
+    objects of the last (their keys name every argument and every file read); else in
+    the build."""
+    kept = reference_cache.folder()
+    if kept is not None:
+        return private_folder(private_folder(kept) / "objects")
+    return private_folder(build / "grading" / "objects")
+
+
 def compile_submission(root: Path, build: Path, chapter: str, source_dir: Path,
                        workdir: Path) -> tuple[Path | None, str]:
     """Compiles the submission's chapter sources like CMake compiled the solution. In a
     grading (an active sandbox) the flags point at the staging copy instead of the
-    instructor's tree, and the compiler runs in the sandbox. Objects are kept in
-    build/grading/objects by what they depend on (object_key, dependency_digest), so
-    a file that many submissions leave as it was is compiled once."""
+    instructor's tree, and the compiler runs in the sandbox. Objects are kept
+    (object_cache) by what they depend on (object_key, dependency_digest), so a file
+    that many submissions leave as it was is compiled once, in this clone or the last."""
     box = sandbox.active()
     limits = sandbox.current_limits()
     commands = json.loads((build / "compile_commands.json").read_text())
     chapter_commands = [c for c in commands
                         if c["file"].startswith(str(root / "chapters" / chapter) + "/")]
     objects, log = [], ""
-    cache = private_folder(build / "grading" / "objects")
+    cache = object_cache(build)
     for old in cache.glob("*.o"):  # kept by an older grader, by object_key alone
         old.unlink(missing_ok=True)
     sources = sorted((source_dir / "chapters" / chapter).glob("*.cpp"))
@@ -717,7 +730,7 @@ def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
     paths = [root / "CMakeLists.txt", root / "tools" / "grading_specs.py",
              root / "chapters" / chapter / "main.cpp", root / "shaders" / chapter,
              root / "tests" / "python" / "tools" / "test_grading.py", build / "compile_commands.json",
-             build / "bin" / chapter, grading / chapter, grading / "objects"]
+             build / "bin" / chapter, grading / chapter, object_cache(build)]
     paths += sorted((grading / chapter).glob("*.p[nf]m"))[:1]  # a PNG or PFM reference
     kept = reference_cache.folder()
     if kept is not None:

@@ -54,7 +54,7 @@ class GradeTest:
 SMALL = ["--width", "96", "--height", "72"]
 ODD = ["--width", "123", "--height", "77"]  # not a multiple of any work-group size
 TINY = ["--width", "32", "--height", "32"]  # statistical tests: many small runs
-WAVEFRONT = ["--kernel", "wavefront"]  # chapter 20: the kernels over queues
+WAVEFRONT = ["--kernel", "wavefront"]  # chapter 23: the kernels over queues
 TWO_LIGHTS = ["--scene", "cornell_two_lights"]  # assets/scenes: lights of two sizes
 PLATES = ["--scene", "glossy_plates"]  # assets/scenes: four rough metals, four lamps
 # Samples of the statistical tests (tools/course_tools/grading/grading_statistics.py): the submission's 8
@@ -296,12 +296,26 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the sky showcase", 3, TINY, "statistical", "after_due_date",
                   sampling=PATH_SAMPLING),
     ],
-    # Chapter 19's exercises read a quad and a tree node back out of a buffer texture's
+    # Chapter 19's exercise writes a quad out as a GLSL constant (scene_code.cpp). What
+    # it writes is all in the views that trace one ray through each pixel's centre
+    # without random numbers: deterministic pictures, so compared with the solution's as
+    # images. The room's quads, written wrong, lose every wall; the showcase's quad, its
+    # floor; the room's albedos, after the due date.
+    "19": [
+        GradeTest("the room's quads written into the shader", 5,
+                  [*SMALL, "--scene", "cornell_box", "--view", "normals"]),
+        GradeTest("the showcase written out", 3,
+                  [*SMALL, "--scene-memory", "constants", "--view", "normals"]),
+        GradeTest("the room's albedos", 2,
+                  [*SMALL, "--scene", "cornell_box", "--view", "albedo"], "image",
+                  "after_due_date"),
+    ],
+    # Chapter 20's exercises read a quad and a tree node back out of a buffer texture's
     # texels (scene_memory.glsl). What they read is all in the views that trace one ray
     # through each pixel's centre without random numbers: deterministic pictures, so
     # compared with the solution's as images. The room's quads, read wrong, lose every
     # wall; the teapot's tree, every triangle; the showcase's albedos, after the due date.
-    "19": [
+    "20": [
         GradeTest("the room's quads from a buffer texture", 5,
                   [*SMALL, "--scene", "cornell_box", "--scene-memory", "texture",
                    "--view", "normals"]),
@@ -311,13 +325,42 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the showcase's albedos", 2, [*SMALL, "--view", "albedo"], "image",
                   "after_due_date"),
     ],
-    # Chapter 20's exercises are the wavefront's queue: a push (an atomic place for each
+    # Chapter 21's exercise takes the next child off the walk's stack
+    # (bvh_traversal.glsl). Any walk that finds the nearest hit finds the same one, so
+    # the views of one ray through each pixel's centre are compared as images: a wrong
+    # pop leaves holes in the meshes, or finds a farther triangle than the nearest. The
+    # teapot, the textured teapot behind a lens, and the gems (a few triangles each)
+    # after the due date.
+    "21": [
+        GradeTest("the teapot's nearest hits", 5,
+                  [*SMALL, "--scene", "cornell_teapot", "--view", "normals"]),
+        GradeTest("the textured teapot through the lens", 3,
+                  [*SMALL, "--scene", "lens_textures", "--view", "albedo"]),
+        GradeTest("the gems' nearest hits", 2,
+                  [*SMALL, "--scene", "cornell_gems", "--view", "normals"], "image",
+                  "after_due_date"),
+    ],
+    # Chapter 22's exercise adds a finished path to the pixel's running mean and starts
+    # the pixel's next path in the same lane (path.comp). Wrong, it carries light or
+    # throughput from one path into the next, or counts the samples wrong: the picture
+    # brightens, darkens or keeps too few samples, judged by statistics as the path
+    # tracer's pictures are. The room (up to 64 samples a dispatch), smooth and rough
+    # glass, the sky showcase after the due date.
+    "22": [
+        GradeTest("the Cornell box, many samples a dispatch", 4,
+                  [*TINY, "--scene", "cornell_box"], "statistical", sampling=PATH_SAMPLING),
+        GradeTest("smooth and rough glass", 3, [*TINY, "--scene", "cornell_glass"],
+                  "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the sky showcase", 3, TINY, "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
+    ],
+    # Chapter 23's exercises are the wavefront's queue: a push (an atomic place for each
     # pixel) and the dispatch commands (enough work groups for every item). Either wrong
     # loses paths or traces the wrong ones, and the picture darkens or scrambles: judged
     # by statistics, as the megakernel's pictures are. The room by direct light first
     # (one kind of material), smooth and rough glass (a queue per kind), the sky showcase
     # after the due date.
-    "20": [
+    "23": [
         GradeTest("the room by direct light, through the wavefront", 4,
                   [*TINY, "--scene", "cornell_box", "--direct", *WAVEFRONT], "statistical",
                   sampling=PATH_SAMPLING),
