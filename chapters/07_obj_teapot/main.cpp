@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
         Mesh mesh = loadObj(objPath);
         session.stats().set("triangles", double(mesh.triangleCount()));
 
-        // 2. Every ray tests every triangle in a loop: up to two loops over them all per
+        //    Every ray tests every triangle in a loop: up to two loops over them all per
         //    pixel (the camera ray's, the shadow ray's). Where the GL ends long loops
         //    silently (Mesa 22's llvmpipe: 65535 iterations), a mesh too big for that
         //    is refused (exit code 4) rather than drawn wrong.
@@ -43,12 +43,12 @@ int main(int argc, char** argv) {
                                  "triangles (with the floor's 2)", 2,
                                  "Chapter 13's BVH renders this mesh."});
 
-        // 3. The scene around the mesh, from its bounds: camera, floor and light.
+        //    The scene around the mesh, from its bounds: camera, floor and light.
         Scene scene = sceneAround(mesh, objPath, width, height);
         // --8<-- [end:load]
 
         // --8<-- [start:upload]
-        // 4. Two storage buffers: positions as vec4 (w unused), because a std430 array
+        // 2. Two storage buffers: positions as vec4 (w unused), because a std430 array
         //    of vec3 has a 16-byte stride too, and triangles as three indices each.
         auto positions = course::GpuBuffer::fromVector(scene.positions);
         if (packedVec3Bug)  // the mistake, on purpose: vertex i lands 4 * i bytes early
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:upload]
 
         // --8<-- [start:setup]
-        // 5. The image, and the shader that traces one ray per pixel in 8x8 tiles.
+        // 3. The image, and the shader that traces one ray per pixel in 8x8 tiles.
         course::ImageBuffer image(width, height);
         image.pixels.bindStorage(PIXELS_BINDING);
         course::ShaderProgram& trace = session.loadCompute("trace.comp");
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
         trace.set("flipNormals", int(!noNormalFlip));  // two-sided triangles
         // --8<-- [end:setup]
 
-        // 6. Trace, then write the PNG (headless) or show it (--window).
+        // 4. Trace, then write the PNG (headless) or show it (--window).
         auto render = [&] { trace.dispatchCovering(width, height); };
         session.timeRender(render);
         session.finish(image, render);

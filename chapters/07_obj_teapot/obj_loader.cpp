@@ -33,13 +33,6 @@ bool looksLikeKeyword(std::string_view word) {
     return true;
 }
 
-// One face corner as written (v, v/vt, v//vn or v/vt/vn), resolved to 0-based indices.
-struct Corner {
-    uint32_t position = 0;
-    uint32_t normal = 0;
-    bool hasNormal = false;
-};
-
 class ObjParser {
 public:
     explicit ObjParser(std::string shownPath) : path_(std::move(shownPath)) {}
@@ -53,10 +46,10 @@ public:
             return;  // a blank line, or only a comment
         if (keyword == "v")
             readPosition(line);
-        else if (keyword == "vn")
-            readNormal(line);
         else if (keyword == "vt")
             ++texcoordCount_;  // not drawn, but faces may index them
+        else if (keyword == "vn")
+            ++normalCount_;  // chapter 08 reads them; here faces may index them
         else if (keyword == "f")
             readFace(line);
         else if (!looksLikeKeyword(keyword))
@@ -68,11 +61,6 @@ public:
     Mesh finish() {
         if (mesh_.positionIndices.empty())
             course::failAtLine(path_, 0, "no faces: the file has no 'f' line");
-        // Normals are all or nothing. If some corner has none, the whole mesh goes
-        // without file normals (chapter 08 then computes its own) rather than
-        // mixing two kinds of shading in one picture.
-        if (!everyCornerHasNormal_)
-            mesh_.normalIndices.clear();
         return std::move(mesh_);
     }
 
@@ -82,7 +70,7 @@ private:
     }
 
     // --8<-- [start:vector]
-    // The numbers after `v` or `vn`: the first three go into xyz; returns how many.
+    // The numbers after `v`: the first three go into xyz; returns how many.
     size_t readVector(std::string_view rest, glm::vec3& xyz) const {
         size_t count = 0;
         for (std::string_view word = nextWord(rest); !word.empty(); word = nextWord(rest)) {
@@ -104,17 +92,6 @@ private:
         if (mesh_.positions.size() >= kMostElements)
             fail("too many vertices (more than 2^31)");
         mesh_.positions.push_back(position);
-    }
-
-    // `vn x y z`: exactly three numbers.
-    void readNormal(std::string_view rest) {
-        glm::vec3 normal(0.0f);
-        const size_t count = readVector(rest, normal);
-        if (count != 3)
-            fail("'vn' needs 3 numbers, got " + std::to_string(count));
-        if (mesh_.normals.size() >= kMostElements)
-            fail("too many normals (more than 2^31)");
-        mesh_.normals.push_back(normal);
     }
 
     // --8<-- [start:index]
@@ -143,7 +120,8 @@ private:
     }
     // --8<-- [end:index]
 
-    Corner readCorner(std::string_view word) const {
+    // One face corner as written (v, v/vt, v//vn or v/vt/vn): its 0-based position.
+    uint32_t readCorner(std::string_view word) const {
         // Split at '/': "7" -> {7}, "7/3" -> {7, 3}, "7//2" -> {7, "", 2}.
         std::string_view parts[3];
         size_t partCount = 0;
@@ -159,17 +137,16 @@ private:
         if (parts[0].empty())
             fail("bad face vertex " + inQuotes(word) + ": no vertex index");
 
-        Corner corner;
-        corner.position = resolveIndex(parts[0], mesh_.positions.size(), "vertex", "vertices");
-        if (!parts[1].empty())  // checked, then not used: we draw no textures
+        const uint32_t position =
+            resolveIndex(parts[0], mesh_.positions.size(), "vertex", "vertices");
+        // Texture coordinates and normals are checked, then not used (not drawn yet).
+        if (!parts[1].empty())
             resolveIndex(parts[1], texcoordCount_, "texture coordinate", "texture coordinates");
-        if (partCount == 3) {
-            if (parts[2].empty())
-                fail("bad face vertex " + inQuotes(word) + ": empty normal index");
-            corner.normal = resolveIndex(parts[2], mesh_.normals.size(), "normal", "normals");
-            corner.hasNormal = true;
-        }
-        return corner;
+        if (partCount == 3 && parts[2].empty())
+            fail("bad face vertex " + inQuotes(word) + ": empty normal index");
+        if (partCount == 3)
+            resolveIndex(parts[2], normalCount_, "normal", "normals");
+        return position;
     }
 
     // --8<-- [start:face]
@@ -183,26 +160,17 @@ private:
             fail("too many triangles (more than 2^31 corner indices)");
 
         // Fan triangulation: (0, 1, 2), (0, 2, 3), ... exact for convex polygons.
-        for (size_t i = 1; i + 1 < corners_.size(); ++i) {
-            addCorner(corners_[0]);
-            addCorner(corners_[i]);
-            addCorner(corners_[i + 1]);
-        }
-    }
-
-    void addCorner(const Corner& corner) {
-        mesh_.positionIndices.push_back(corner.position);
-        everyCornerHasNormal_ = everyCornerHasNormal_ && corner.hasNormal;
-        if (everyCornerHasNormal_)  // once one is missing, normals are dropped (finish)
-            mesh_.normalIndices.push_back(corner.normal);
+        for (size_t i = 1; i + 1 < corners_.size(); ++i)
+            mesh_.positionIndices.insert(mesh_.positionIndices.end(),
+                                         {corners_[0], corners_[i], corners_[i + 1]});
     }
     // --8<-- [end:face]
 
     std::string path_;
     size_t lineNumber_ = 0;
     size_t texcoordCount_ = 0;
-    bool everyCornerHasNormal_ = true;
-    std::vector<Corner> corners_;  // the face being read; reused to avoid allocations
+    size_t normalCount_ = 0;
+    std::vector<uint32_t> corners_;  // the face being read; reused to avoid allocations
     Mesh mesh_;
 };
 

@@ -1,4 +1,4 @@
-// A small, strict reader for Wavefront OBJ meshes: positions, normals and triangles.
+// A small, strict reader for Wavefront OBJ meshes: positions and triangles.
 // No GL here: the chapter uploads what this returns into storage buffers.
 #pragma once
 #include <cstddef>
@@ -12,10 +12,8 @@
 // A triangle mesh as the GPU wants it: flat arrays, 3 indices per triangle.
 struct Mesh {
     std::vector<glm::vec3> positions;  // from `v` lines
-    std::vector<glm::vec3> normals;    // from `vn` lines (may be empty)
     // One entry per triangle corner, 3 per triangle, 0-based:
     std::vector<uint32_t> positionIndices;
-    std::vector<uint32_t> normalIndices;  // empty when any face lacks normals
 
     size_t triangleCount() const { return positionIndices.size() / 3; }
 };

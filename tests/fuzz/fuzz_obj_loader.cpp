@@ -1,4 +1,5 @@
-// Fuzzes chapter 07's OBJ loader: any bytes must give a mesh or a clean Failure.
+// Fuzzes the chapters' OBJ loader (chapter 08's, which reads normals as well as chapter
+// 07's positions and faces): any bytes must give a mesh or a clean Failure.
 #include "course/error.h"
 #include "fuzz_file.h"
 #include "obj_loader.h"
