@@ -75,8 +75,6 @@ int main(int argc, char** argv) {
         trace.set("imageSize", glm::uvec2(width, height));
         trace.set("lightPosition", scene.lightPosition);
         trace.set("shadowOffset", scene.shadowOffset);
-        trace.set("flipNormals", 1);  // two-sided triangles
-        trace.set("flatShading", 0);
         trace.set("view", view == "noise" ? VIEW_NOISE : view == "ao" ? VIEW_AO : VIEW_SHADED);
         trace.set("aoDistance", 0.5f * scene.radius);
 

@@ -93,13 +93,3 @@ Scene sceneAround(const Mesh& mesh, const std::string& path, int width, int heig
     return scene;
 }
 // --8<-- [end:scene]
-
-// --8<-- [start:packed]
-std::vector<glm::vec3> packedVec3(const std::vector<glm::vec4>& positions) {
-    // At least as many bytes as the right buffer, zeros at the end: the shader's reads,
-    // 16 bytes apart, stay inside the buffer, which a GPU does not promise to check.
-    std::vector<glm::vec3> packed(positions.size() * 4 / 3 + 1, glm::vec3(0.0f));
-    for (size_t i = 0; i < positions.size(); ++i) packed[i] = glm::vec3(positions[i]);
-    return packed;
-}
-// --8<-- [end:packed]

@@ -25,6 +25,3 @@ struct Scene {
 // must have normals at every corner (normals.h makes them for files without). A mesh
 // with no extent (every vertex at one point) cannot be framed: exit code 3, naming `path`.
 Scene sceneAround(const Mesh& mesh, const std::string& path, int width, int height);
-
-// --packed-vec3: the positions as tightly packed glm::vec3s, the classic mistake.
-std::vector<glm::vec3> packedVec3(const std::vector<glm::vec4>& positions);

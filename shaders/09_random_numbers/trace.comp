@@ -7,8 +7,6 @@
 #include "shared.h"
 #include "random.glsl"
 #include "camera.glsl"
-#include "hit.glsl"
-#include "triangle.glsl"
 #include "scene.glsl"
 #include "shading.glsl"
 

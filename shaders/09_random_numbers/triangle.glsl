@@ -1,6 +1,6 @@
 // Where a ray meets a triangle: the Moller-Trumbore algorithm.
 
-// A triangle's corners, once looked up through its indices (scene.glsl).
+// A triangle's corners, once looked up through its indices (cornersOf, below).
 struct Corners {
     vec3 p0, p1, p2;
 };
@@ -51,30 +51,36 @@ vec3 smoothNormal(CornerNormals normals, vec2 barycentric, vec3 flatNormal) {
 }
 // --8<-- [end:smooth_normal]
 
-// --no-normal-flip: keep the normal the corners' order gives, even seen from behind.
-uniform bool flipNormals;
-// --flat: chapter 07's flat shading, for comparison.
-uniform bool flatShading;
+// --8<-- [start:corners]
+// A triangle's corners and their normals, looked up through its indices.
+Corners cornersOf(Triangle triangle) {
+    return Corners(positions[triangle.corners.x].xyz, positions[triangle.corners.y].xyz,
+                   positions[triangle.corners.z].xyz);
+}
+CornerNormals normalsOf(Triangle triangle) {
+    return CornerNormals(normals[triangle.cornerNormals.x].xyz,
+                         normals[triangle.cornerNormals.y].xyz,
+                         normals[triangle.cornerNormals.z].xyz);
+}
+// --8<-- [end:corners]
 
 // --8<-- [start:triangle_hit]
-// What the ray found where it meets the triangle at t.
-Hit triangleHit(Ray ray, float t, vec2 barycentric, Corners triangle,
-                CornerNormals normals, vec3 albedo) {
-    vec3 edge1 = triangle.p1 - triangle.p0;
-    vec3 edge2 = triangle.p2 - triangle.p0;
-    // The flat triangle's own normal: cross() points to the side from which the
-    // corners run counter-clockwise.
-    vec3 geometricNormal = normalize(cross(edge1, edge2));
-    vec3 normal = flatShading ? geometricNormal
-                              : smoothNormal(normals, barycentric, geometricNormal);
-    // Which side did the ray hit? Only the flat triangle knows: a smooth normal can
-    // face the ray near an outline although the ray meets the triangle's back. Both
-    // normals turn together, so the smooth one stays on the side the ray sees.
-    if (flipNormals && dot(geometricNormal, ray.direction) > 0.0) {
+// What the ray found where it meets the triangle at t. The flat triangle's own normal
+// says which side the ray is on; the corners' normals, blended, are the normal to
+// shade with (chapter 08), turned with it to the side the ray sees.
+Hit triangleHit(Ray ray, float t, vec2 barycentric, Triangle triangle) {
+    Corners corners = cornersOf(triangle);
+    // cross() points to the side from which the corners run counter-clockwise.
+    vec3 geometricNormal =
+        normalize(cross(corners.p1 - corners.p0, corners.p2 - corners.p0));
+    vec3 normal = smoothNormal(normalsOf(triangle), barycentric, geometricNormal);
+    // A smooth normal can face the ray near an outline although the ray meets the
+    // triangle's back: only the flat normal knows the side, and both turn together.
+    if (dot(geometricNormal, ray.direction) > 0.0) {
         geometricNormal = -geometricNormal;
         normal = -normal;
     }
-    vec3 position = ray.origin + t * ray.direction;
-    return Hit(t, position, normal, geometricNormal, albedo, barycentric);
+    return Hit(t, ray.origin + t * ray.direction, normal, geometricNormal,
+               ALBEDO[triangle.material]);
 }
 // --8<-- [end:triangle_hit]
