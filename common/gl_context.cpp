@@ -47,13 +47,13 @@ void enableDebugMessages() {
 }  // namespace
 
 void failTooOld(GlVersion required, const std::string& have, const std::string& backend) {
-    const bool compute = required.major * 10 + required.minor >= 43;
+    const bool storage = required.major * 10 + required.minor >= 43;
     throw GlTooOld(
          "this chapter needs OpenGL " + required.text() + " core" +
-             (compute ? " (compute shaders)" : "") + ", but " + backend +
+             (storage ? " (compute shaders and storage buffers)" : "") + ", but " + backend +
              " offers OpenGL " + have + ". Update the graphics driver" +
-             (compute ? ", try --backend osmesa (software), or on macOS, which stops at "
-                        "OpenGL 4.1, follow the fragment-shader appendix."
+             (storage ? ", try --backend osmesa (software), or on macOS, which stops at "
+                        "OpenGL 4.1, follow the OpenGL 3.3 appendix."
                       : " or try --backend osmesa (software)."));
 }
 

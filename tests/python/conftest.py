@@ -36,7 +36,7 @@ RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
 
 def pytest_configure(config):
     # One marker per checkpoint folder: chapters/02_first_pixels -> chapter02, and the
-    # appendices' chapters/A1_... -> chapterA1.
+    # appendices' chapters/A2_... -> chapterA2.
     for folder in sorted((ROOT / "chapters").iterdir()):
         number = folder.name.split("_")[0]
         config.addinivalue_line("markers", f"chapter{number}: checks of {folder.name}")
@@ -44,7 +44,7 @@ def pytest_configure(config):
 
 def pytest_collection_modifyitems(items):
     # test_02_first_pixels.py -> marker chapter02, so ./course test 02 selects it
-    # (test_A1_gl33_fragment.py -> chapterA1: ./course test A1).
+    # (test_A2_gl33_fragment.py -> chapterA2: ./course test A2).
     for item in items:
         match = re.match(r"test_(\d\d|A\d)_", Path(str(item.fspath)).name)
         if match:

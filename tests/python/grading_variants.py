@@ -641,12 +641,52 @@ CATALOGUE["18"] = CHAPTER_18
 
 # ---------------------------------------------------------------- appendix A1
 
-G = "A1_gl33_fragment"
+F = "A1_fragment_passes"
+MEAN_UPDATE = "    mean += (radiance - mean) / float(sampleIndex + 1u);\n"
+PREVIOUS_MEAN = ("    vec3 mean = sampleIndex == 0u ? vec3(0.0) : "
+                 "texelFetch(previousMean, samePixel, 0).rgb;\n")
+CARRIED_STATE = ("    RandomState random = RandomState(texelFetch(previousRandom, "
+                 "samePixel, 0));\n")
+
+CHAPTER_A1 = [
+    Variant(F, "mean updated with mix()", True, (
+        Edit("shaders/path.frag", MEAN_UPDATE,
+             "    mean = mix(mean, radiance, 1.0 / float(sampleIndex + 1u));\n"),)),
+    Variant(F, "mean as the weighted sum of the old mean and the sample", True, (
+        Edit("shaders/path.frag", MEAN_UPDATE,
+             "    mean = (mean * float(sampleIndex) + radiance) / float(sampleIndex + 1u);\n"),)),
+
+    Variant(F, "the point in the pixel drawn the other way round", True, (
+        Edit("shaders/path.frag",
+             "    Ray ray = primaryRay(pixel, imageSize, random2(random));",
+             "    Ray ray = primaryRay(pixel, imageSize, random2(random).yx);"),)),
+
+    Variant(F, "generator restarted from the seed every pass", False, (
+        Edit("shaders/path.frag", CARRIED_STATE,
+             "    RandomState random = seedHashed(seed, pixel.y * imageSize.x + pixel.x);\n"),)),
+    Variant(F, "previous mean left out: the newest sample only", False, (
+        Edit("shaders/path.frag", PREVIOUS_MEAN, "    vec3 mean = vec3(0.0);\n"),)),
+    Variant(F, "generator state not written back: every pass starts as seeded", False, (
+        Edit("shaders/path.frag", "    newRandomState = random.words;\n",
+             "    newRandomState = texelFetch(previousRandom, samePixel, 0);\n"),)),
+    Variant(F, "an exponential average: old mean and new sample half each", False, (
+        Edit("shaders/path.frag", MEAN_UPDATE, "    mean = 0.5 * (mean + radiance);\n"),)),
+    Variant(F, "previous mean read from the pixel to the right", False, (
+        Edit("shaders/path.frag", PREVIOUS_MEAN,
+             PREVIOUS_MEAN.replace("samePixel, 0", "samePixel + ivec2(1, 0), 0")),)),
+]
+
+CATALOGUE["A1"] = CHAPTER_A1
+
+
+# ---------------------------------------------------------------- appendix A2
+
+G = "A2_gl33_fragment"
 QUAD_READ = ("    return Quad(origin, edge1, edge2, materialOf(indices), "
              "emitterOf(indices.y));\n")
 TRIANGLE_READ = ("    vec4 corners = texel(first), normals = texel(first + 1u);\n")
 
-CHAPTER_A1 = [
+CHAPTER_A2 = [
     Variant(G, "quad's indices texel counted back from the end of its run", True, (
         Edit("shaders/scene.glsl", "    vec4 indices = texel(first + 3u);\n",
              "    vec4 indices = texel(first + uint(QUAD_TEXELS) - 1u);\n"),)),
@@ -673,7 +713,7 @@ CHAPTER_A1 = [
              "    vec4 corners = texel(first + 1u), normals = texel(first);\n"),)),
 ]
 
-CATALOGUE["A1"] = CHAPTER_A1
+CATALOGUE["A2"] = CHAPTER_A2
 
 
 # ---------------------------------------------------------------- chapter 22

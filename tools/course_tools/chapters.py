@@ -14,7 +14,7 @@ ADD_CHAPTER = re.compile(r"^add_chapter\((\w+)\)", flags=re.M)
 
 
 def names(root: Path = ROOT) -> list[str]:
-    """Checkpoint names in order, e.g. ['01_buffer_add', ..., 'A1_gl33_fragment']."""
+    """Checkpoint names in order, e.g. ['01_buffer_add', ..., 'A2_gl33_fragment']."""
     return ADD_CHAPTER.findall((root / "CMakeLists.txt").read_text())
 
 

@@ -41,7 +41,7 @@ class ManifestError(Exception):
 @dataclass(frozen=True)
 class Figure:
     name: str       # the PNG's file name, e.g. "11_direct.png"
-    program: str    # a chapter's number ("11", "A1") or "python_prototypes/x.py"
+    program: str    # a chapter's number ("11", "A2") or "python_prototypes/x.py"
     arguments: str  # the rest of the line, as the program takes it
 
 

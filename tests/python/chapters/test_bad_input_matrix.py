@@ -16,7 +16,7 @@ import pytest
 
 from conftest import BIN, copy_shaders, loop_limit, run_chapter
 
-# Numbered chapters and appendices (A1_gl33_fragment: "A1").
+# Numbered chapters and appendices (A2_gl33_fragment: "A2").
 CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir()
                   if p.name[:2].isdigit() or re.fullmatch(r"A\d", p.name[:2]))
 

@@ -10,7 +10,7 @@ from conftest import BIN, ROOT, run_chapter
 IMAGE_CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit()
                         and p.name[:2] != "01")
 ALL_CHAPTERS = sorted(p.name[:2] for p in BIN.iterdir() if p.name[:2].isdigit())
-# Appendices (A1: GL 3.3) share the command line, but not the 4.3 floor.
+# Appendices (A2: GL 3.3) share the command line, but not the 4.3 floor.
 APPENDICES = sorted(p.name[:2] for p in BIN.iterdir() if re.fullmatch(r"A\d", p.name[:2]))
 
 BAD_USAGE = [

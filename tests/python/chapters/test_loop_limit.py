@@ -58,8 +58,8 @@ def render_big(tmp_path: Path, env: dict):
 
 @pytest.mark.parametrize("chapter, env, stage", [
     ("07", {}, "compute"),
-    ("A1", GL33, "fragment"),  # a GL 3.3 context: the fragment-shader probe
-    ("A1", {}, "fragment"),    # the appendix loops in fragment shaders on any GL
+    ("A2", GL33, "fragment"),  # a GL 3.3 context: the fragment-shader probe
+    ("A2", {}, "fragment"),    # the appendix loops in fragment shaders on any GL
 ])
 def test_the_probe_measures_mesa_22s_limit_or_none(tmp_path, chapter, env, stage):
     stats = probe(chapter, {**env, **cache_env(tmp_path)})  # a new cache: measured now
@@ -97,7 +97,7 @@ def test_a_run_within_the_smallest_known_limit_does_not_probe(tmp_path):
 def test_the_answer_is_remembered_per_gl_and_shader_stage(tmp_path):
     env = cache_env(tmp_path)
     compute = probe("07", env)
-    fragment = probe("A1", {**env, **GL33})
+    fragment = probe("A2", {**env, **GL33})
     lines = data_lines(tmp_path / CACHE)
     # vendor, renderer, version, stage, limit, probed
     assert [(line[1], line[2], line[3]) for line in lines] == [

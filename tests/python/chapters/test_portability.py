@@ -21,7 +21,7 @@ import pytest
 from conftest import BIN, ROOT, read_pfm, run_chapter, xvfb_available
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
-A1_OPTIONS = ("--width", "32", "--height", "32", "--spp", "8", "--seed", "7")
+A2_OPTIONS = ("--width", "32", "--height", "32", "--spp", "8", "--seed", "7")
 
 
 def render_headless(prefix: str, out, backend: str, *args, env=None, display=None):
@@ -39,7 +39,7 @@ def render_headless(prefix: str, out, backend: str, *args, env=None, display=Non
 
 @pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 @pytest.mark.parametrize("prefix, args, env", [
-    ("A1", A1_OPTIONS, GL33),                      # the macOS route, on a 3.3 context
+    ("A2", A2_OPTIONS, GL33),                      # the macOS route, on a 3.3 context
     ("02", ("--width", "40", "--height", "24"), {}),  # a compute chapter, GL 4.3
 ])
 def test_hidden_glfw_window_renders_the_egl_image(tmp_path, window_env, prefix, args, env):
@@ -54,7 +54,7 @@ def test_hidden_glfw_window_renders_the_egl_image(tmp_path, window_env, prefix, 
 
 
 def test_hidden_glfw_window_without_a_display_is_exit_4(tmp_path):
-    result = run_chapter("A1", "--headless", "--backend", "glfw", "--out",
+    result = run_chapter("A2", "--headless", "--backend", "glfw", "--out",
                          tmp_path / "never.png", env=GL33)
     assert result.returncode == 4, result.stderr
     assert "hidden window needs one too" in result.stderr

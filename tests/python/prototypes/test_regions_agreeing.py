@@ -1,4 +1,4 @@
-"""conftest.regions_agreeing, the region-by-region z-test of chapters 11-15 and A1, can
+"""conftest.regions_agreeing, the region-by-region z-test of chapters 11-15 and A2, can
 fail: a correct picture passes, one scaled by 0.5 is rejected, and so is one with a
 single region half or three quarters as bright. Pictures are Mitsuba 3's (two seeds: independent noise), so what is
 tested is the comparison, not a chapter. Regions whose light a few pixels carry (the

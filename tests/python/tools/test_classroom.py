@@ -130,7 +130,7 @@ def test_release_verb_writes_a_starter(tmp_path):
 def test_release_refuses_a_chapter_without_exercises(tmp_path):
     # Every chapter has SOLUTION blocks now (the appendix's: reading shapes out of its
     # buffer texture); a folder without any would give a starter that is the solution.
-    assert classroom.has_exercises(ROOT, "A1_gl33_fragment")
+    assert classroom.has_exercises(ROOT, "A2_gl33_fragment")
     for top in ("chapters", "shaders"):
         (tmp_path / top / "99_plain").mkdir(parents=True)
     (tmp_path / "chapters" / "99_plain" / "main.cpp").write_text("int main() {}\n")

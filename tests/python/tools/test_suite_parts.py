@@ -12,13 +12,13 @@ from course_tools.cli import suite_parts
 def test_each_check_is_given_to_the_chapter_it_names():
     cases = {
         "tests/python/chapters/test_13_bvh.py::test_smooth_teapot_agrees_with_mitsuba": ("13", "own"),
-        "tests/python/chapters/test_A1_gl33_fragment.py::test_x[egl]": ("A1", "own"),
+        "tests/python/chapters/test_A2_gl33_fragment.py::test_x[egl]": ("A2", "own"),
         "tests/python/tools/test_grading_statistics.py::test_catalogue_variant[16-wrong-no_tir]":
             ("16", "grading"),
         "tests/python/tools/test_grading.py::test_solution_full_marks_and_starter_near_zero"
         "[23_wavefront]": ("23", "grading"),
         "tests/python/tools/test_classroom.py::test_starter_builds_runs_and_is_wrong"
-        "[A1_gl33_fragment]": ("A1", "grading"),
+        "[A2_gl33_fragment]": ("A2", "grading"),
         "tests/python/tools/test_book.py::test_book_builds_strictly_with_real_figures": None,
         "tests/python/chapters/test_command_line.py::test_too_old_gl_is_exit_4_with_the_way_out"
         "[egl-03]": None,

@@ -80,7 +80,7 @@ def cmd_run(args):
     if result.returncode != 0:
         if result.returncode == 4 and sys.platform == "darwin" and name[:2].isdigit():
             # macOS stops at OpenGL 4.1: the numbered chapters need compute shaders.
-            say("on macOS, run the OpenGL 3.3 appendix instead: ./course run A1")
+            say("on macOS, run the OpenGL 3.3 appendix instead: ./course run A2")
         sys.exit(result.returncode)
     if out is not None:
         print(out)

@@ -34,7 +34,7 @@ def this_run_durations(artifacts: Path) -> dict[str, float]:
 CHAPTER_SHARE_SECONDS = 60  # a chapter's own checks, ./course test NN once built
 
 # Where a check id names a chapter: its file (test_13_bvh.py), a catalogue variant
-# ([13-correct-...]) or a chapter parameter ([16_glass], [A1_gl33_fragment]).
+# ([13-correct-...]) or a chapter parameter ([16_glass], [A2_gl33_fragment]).
 CHAPTER_PATTERNS = (re.compile(r"(?:^|/)test_(\d\d|A\d)_"),
                     re.compile(r"\[(\d\d|A\d)-(?:correct|wrong)-"),
                     re.compile(r"\[(\d\d|A\d)_[a-z]"))

@@ -202,10 +202,38 @@ def student_checkpoint(root: Path, chapter: str,
     return files
 
 
+# A file gone from checkpoint a and a file new in b count as one file renamed when at
+# least this share of their lines agree (git's rename detection uses 50% too): chapter
+# 12's path.comp and the appendix's path.frag are one shader, changed, not two.
+RENAME_SIMILARITY = 0.5
+
+
+def renamed_files(before: dict[str, str], after: dict[str, str]) -> dict[str, str]:
+    """{key in before only: key in after only} for the pairs that are one file renamed:
+    same top folder (chapters/ or shaders/), the most similar pairs first."""
+    gone = [k for k in before if k not in after]
+    new = [k for k in after if k not in before]
+    scored = []
+    for old_key in gone:
+        for new_key in new:
+            if old_key.split("/")[0] != new_key.split("/")[0]:
+                continue
+            matcher = difflib.SequenceMatcher(None, before[old_key].splitlines(),
+                                              after[new_key].splitlines(), autojunk=False)
+            if matcher.ratio() >= RENAME_SIMILARITY:
+                scored.append((-matcher.ratio(), old_key, new_key))
+    pairs: dict[str, str] = {}
+    for _, old_key, new_key in sorted(scored):
+        if old_key not in pairs and new_key not in pairs.values():
+            pairs[old_key] = new_key
+    return pairs
+
+
 def checkpoint_diff(old: dict[str, str], new: dict[str, str], a: str,
                     b: str) -> list[tuple[str, list[str]]]:
     """Per file, the unified diff from checkpoint a to checkpoint b, given their texts
-    keyed 'chapters/NN_name/...' (the files as they are, or an edition of them)."""
+    keyed 'chapters/NN_name/...' (the files as they are, or an edition of them). A file
+    renamed on the way (renamed_files) is one diff, keyed by its new name."""
     def by_file(texts: dict[str, str]) -> dict[str, str]:
         keyed = {}
         for path, text in texts.items():
@@ -213,13 +241,17 @@ def checkpoint_diff(old: dict[str, str], new: dict[str, str], a: str,
             keyed[f"{top}/{rest}"] = text
         return keyed
     before, after = by_file(old), by_file(new)
+    renamed = renamed_files(before, after)
+    old_name = {new_key: old_key for old_key, new_key in renamed.items()}
     result = []
-    for key in sorted(set(before) | set(after)):
+    for key in sorted((set(before) - set(renamed)) | set(after)):
+        source = old_name.get(key, key)
         top, rest = key.split("/", 1)
+        old_rest = source.split("/", 1)[1]
         lines = list(difflib.unified_diff(
-            before[key].splitlines() if key in before else [],
+            before[source].splitlines() if source in before else [],
             after[key].splitlines() if key in after else [],
-            f"{top}/{a}/{rest}" if key in before else "/dev/null",
+            f"{top}/{a}/{old_rest}" if source in before else "/dev/null",
             f"{top}/{b}/{rest}" if key in after else "/dev/null", lineterm=""))
         if lines:
             result.append((key, lines))

@@ -370,11 +370,23 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the sky showcase, through the wavefront", 3, [*TINY, *WAVEFRONT],
                   "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
-    # Appendix A1: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
+    # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
+    # writes is the pass's end: the pixel's state from the previous pass's textures,
+    # one more sample, the new state to this pass's outputs. Graded by statistics, as
+    # chapter 12: a generator that restarts every pass is caught by its noise.
+    "A1": [
+        GradeTest("Cornell box, direct light", 3, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("Cornell box, global illumination", 4, TINY, "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("two lights, global illumination", 3, [*TINY, *TWO_LIGHTS],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Appendix A2: the path tracer of chapter 12 on OpenGL 3.3. What a student writes is
     # what GL 3.3 changes: reading the quads and the triangles out of the buffer
     # texture. Graded by statistics, as chapter 12. Every scene has quads (the room);
     # the gems' two tests carry half the points, so that a wrong triangle loses half.
-    "A1": [
+    "A2": [
         GradeTest("Cornell box, direct light", 2.5, [*TINY, "--direct"], "statistical",
                   sampling=PATH_SAMPLING),
         GradeTest("gems, direct light", 3, [*TINY, "--scene", "cornell_gems", "--direct"],

@@ -5,14 +5,21 @@
 #ifndef COURSE_SHARED_H
 #define COURSE_SHARED_H
 
-// GLSL 3.30 has no layout(binding = N): the host connects samplers to texture units and
-// uniform blocks to their binding points by name, after every (re)link.
-#define PRIMITIVES_UNIT 0       // the buffer texture of shapes (samplerBuffer)
+#define SPHERES_BINDING 1    // the scene's spheres
+#define TRIANGLES_BINDING 2  // its triangles, meshes included: indices of their corners
+#define QUADS_BINDING 3      // its parallelograms (walls, lights)
+#define MATERIALS_BINDING 5  // albedo and emission, picked by each shape's `material`
+#define POSITIONS_BINDING 7  // the triangles' corners, in the world: one vec4 each
+#define NORMALS_BINDING 8    // the normals at those corners, unit: one vec4 each
+#define EMITTERS_BINDING 9   // the shapes that emit: what next-event estimation samples
+
+// What chapter 12 kept per pixel in storage buffers between dispatches lives in
+// textures now: the previous pass's, on these texture units, read with texelFetch.
 #define PREVIOUS_MEAN_UNIT 1    // the last pass's running mean, linear RGB
 #define PREVIOUS_RANDOM_UNIT 2  // the last pass's generator states, one uvec4 a pixel
 #define PREVIOUS_RAYS_UNIT 3    // the last pass's ray counts, for the --json stats
-#define SCENE_BLOCK_BINDING 0   // materials and emitters (uniform buffer)
-#define PARAMETERS_BINDING 1    // PathParameters below: what a pass reads besides those
+// Uniform buffers have binding points of their own, apart from storage buffers'.
+#define PARAMETERS_BINDING 0    // PathParameters below: what a pass reads besides those
 
 // What one pass writes per pixel: the colour attachments of an accumulation
 // framebuffer, each one a fragment shader output (layout(location = N) out).
@@ -25,33 +32,11 @@
 #define ESTIMATOR_BSDF 1  // sample the BSDF only; light counts when a ray hits it
 #define ESTIMATOR_MIS 2   // both, weighted by multiple importance sampling
 
-// What kind of shape an emitter is.
+// The kinds of shape, for the nearest hit and the emitters to say which.
 #define SHAPE_SPHERE 0
 #define SHAPE_QUAD 1
 #define SHAPE_TRIANGLE 2
 #define NO_EMITTER 0xFFFFFFFFu  // a shape's `emitter` when its material does not emit
-
-// --8<-- [start:texels]
-// Shapes live in one buffer texture of RGBA32F texels, read with texelFetch: spheres
-// first, then quads, then triangles, each a run of texels; then the two runs the
-// triangles point into, chapter 12's positions and normals. A texel holds four floats,
-// so indices are stored as float numbers (exact up to 2^24), the emitter as -1 when the
-// shape does not glow.
-//   sphere    centre and radius; (material, emitter, 0, 0)
-//   quad      origin; edge1; edge2; (material, emitter, 0, 0)
-//   triangle  (corners, material); (cornerNormals, emitter): chapter 12's Triangle,
-//             its corners' indices into the positions and theirs into the normals
-//   position  a triangle corner, in the world (w unused)
-//   normal    the unit normal at a corner (w unused)
-#define SPHERE_TEXELS 2
-#define QUAD_TEXELS 4
-#define TRIANGLE_TEXELS 2
-// --8<-- [end:texels]
-
-// A uniform block has a fixed size: these many materials and emitters, 12 KiB with the
-// counts, below the 16 KiB that every GL 3.3 guarantees (GL_MAX_UNIFORM_BLOCK_SIZE).
-#define MAX_MATERIALS 256
-#define MAX_EMITTERS 256
 
 // New rays start RAY_OFFSET * (1 + the hit's largest |coordinate|) off the surface,
 // along its normal, so that float32 rounding does not make them find the surface they
@@ -68,13 +53,38 @@
 namespace gpu {
 using uint = glm::uint;
 using uvec2 = glm::uvec2;
+using uvec3 = glm::uvec3;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 #endif
 
 // --8<-- [start:structs]
-// std140, the layout of uniform blocks, aligns a struct and an array element to 16
-// bytes: built from vec4s and four 4-byte numbers, these need no padding.
+// std430 aligns a vec3 to 16 bytes but gives it only 12, so the number after each vec3
+// fills its fourth slot: exactly where C++ puts it after a 12-byte glm::vec3. Each shape
+// names its material (an index into the materials) and its emitter (its index in the
+// emitter list, or NO_EMITTER).
+struct Sphere {
+    vec3 center;
+    float radius;
+    uint material;
+    uint emitter;
+    uint unused0;  // std430 rounds the struct up to a multiple of 16 bytes, its
+    uint unused1;  // alignment: these give C++ the same 32
+};
+struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin + edge2
+    vec3 origin;
+    uint material;
+    vec3 edge1;
+    uint emitter;
+    vec3 edge2;  // the front is the side cross(edge1, edge2) points to
+    uint unused;
+};
+struct Triangle {  // chapter 09's: the front is where the corners run counter-clockwise
+    uvec3 corners;        // indices into the positions
+    uint material;
+    uvec3 cornerNormals;  // indices into the normals, in the corners' order
+    uint emitter;
+};
 struct Material {
     vec4 albedo;    // rgb: the reflected fraction of the light (Lambertian)
     vec4 emission;  // rgb: the radiance it gives out from its front; zero if none
@@ -84,27 +94,6 @@ struct Emitter {
     uint index;   // into the spheres, quads or triangles
     float area;   // its surface area: uniform sampling has the density 1 / area
     float power;  // unused; room for picking bright lights more often
-};
-
-// The same bytes are a C++ struct and a GLSL uniform block, whose members GLSL sees as
-// global names (sphereCount, materials[i], emitters[i], ...).
-#ifdef __cplusplus
-struct SceneBlock {
-#else
-layout(std140) uniform SceneBlock {
-#endif
-    uint sphereCount;
-    uint quadCount;
-    uint triangleCount;
-    uint emitterCount;
-    uint firstSphereTexel;  // where each run of texels begins in the buffer texture
-    uint firstQuadTexel;
-    uint firstTriangleTexel;
-    uint firstPositionTexel;
-    uint firstNormalTexel;
-    uint padding0, padding1, padding2;  // std140 starts an array of structs at 16n bytes
-    Material materials[MAX_MATERIALS];
-    Emitter emitters[MAX_EMITTERS];
 };
 // --8<-- [end:structs]
 
@@ -122,14 +111,14 @@ struct PinholeCamera {
     uint unused1;
 };
 
-// What a pass reads besides the textures and the scene, as one std140 uniform block:
-// the host fills this struct and uploads it before each pass, and GLSL sees its members
-// as global names (camera, imageSize, ...). A misspelt name fails to compile on either
+// What a pass reads besides the buffers, as one std140 uniform block: the host
+// fills this struct and uploads it before each pass, and GLSL sees its members as
+// global names (camera, imageSize, ...). A misspelt name fails to compile on either
 // side, where a misspelt glUniform name would set nothing and say nothing.
 #ifdef __cplusplus
 struct PathParameters {
 #else
-layout(std140) uniform PathParameters {
+layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
 #endif
     PinholeCamera camera;
     uvec2 imageSize;
@@ -143,17 +132,20 @@ layout(std140) uniform PathParameters {
 // --8<-- [end:parameters]
 
 #ifdef __cplusplus
-// The offsets GLSL's std140 rules give; a C++ struct that differs would scramble the
-// scene or the camera silently, so the compiler checks.
-static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std140 Material");
-static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std140 Emitter");
-static_assert(offsetof(SceneBlock, emitterCount) == 12 &&
-                  offsetof(SceneBlock, firstSphereTexel) == 16 &&
-                  offsetof(SceneBlock, firstNormalTexel) == 32 &&
-                  offsetof(SceneBlock, materials) == 48 &&
-                  offsetof(SceneBlock, emitters) == 48 + 32 * MAX_MATERIALS &&
-                  sizeof(SceneBlock) == 48 + 32 * MAX_MATERIALS + 16 * MAX_EMITTERS,
-              "std140 SceneBlock");
+// The offsets GLSL's std430 (buffers) and std140 (the block) rules give; a C++ struct
+// that differs would scramble the scene or the camera silently, so the compiler checks.
+static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, radius) == 12 &&
+                  offsetof(Sphere, material) == 16 && offsetof(Sphere, emitter) == 20,
+              "std430 Sphere");
+static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
+                  offsetof(Quad, edge1) == 16 && offsetof(Quad, emitter) == 28 &&
+                  offsetof(Quad, edge2) == 32 && offsetof(Quad, unused) == 44,
+              "std430 Quad: each uint fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Triangle) == 32 && offsetof(Triangle, material) == 12 &&
+                  offsetof(Triangle, cornerNormals) == 16 && offsetof(Triangle, emitter) == 28,
+              "std430 Triangle: each uint fills the fourth slot of the uvec3 before it");
+static_assert(sizeof(Material) == 32 && offsetof(Material, emission) == 16, "std430 Material");
+static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std430 Emitter");
 static_assert(sizeof(PinholeCamera) == 64 && offsetof(PinholeCamera, focalLength) == 12 &&
                   offsetof(PinholeCamera, forward) == 16 &&
                   offsetof(PinholeCamera, sensorWidth) == 28 &&

@@ -1,4 +1,4 @@
-#version 330 core
+#version 430 core
 // Appendix A1: chapter 12's path tracer as a fragment shader. Each pass draws one
 // triangle over the whole image, and this shader runs once per pixel: it adds one
 // sample, a path from the camera that bounces off Lambertian surfaces, gathering the
@@ -43,6 +43,7 @@ vec3 offsetFromSurface(vec3 position, vec3 normal) {
 // on one emitter, if a shadow ray finds nothing in the way; per unit albedo and already
 // divided by the density of the choice. With MIS, weighted against BSDF sampling.
 vec3 lightFromEmitters(Hit hit, inout RandomState random, inout uint rays) {
+    uint emitterCount = uint(emitters.length());
     uint chosen = min(uint(random01(random) * float(emitterCount)), emitterCount - 1u);
     LightPoint light = sampleEmitter(emitters[chosen], random2(random));
     vec3 origin = offsetFromSurface(hit.position, hit.geometricNormal);
@@ -133,6 +134,7 @@ void main() {
     // --8<-- [start:accumulate]
     // As in chapter 12: the pixel's generator continues from the previous pass, and the
     // image holds the running mean of the samples.
+    // BEGIN SOLUTION the pixel's state from the previous pass's textures, one more sample
     RandomState random = RandomState(texelFetch(previousRandom, samePixel, 0));
     uint rays = sampleIndex == 0u ? 0u : texelFetch(previousRays, samePixel, 0).r;
     Ray ray = primaryRay(pixel, imageSize, random2(random));  // a random point (AA)
@@ -142,5 +144,7 @@ void main() {
     vec3 mean = sampleIndex == 0u ? vec3(0.0) : texelFetch(previousMean, samePixel, 0).rgb;
     mean += (radiance - mean) / float(sampleIndex + 1u);
     newMean = vec4(mean, 1.0);
+    // STUB: newMean = vec4(1.0, 0.0, 1.0, 1.0);  // magenta: no sample traced yet
+    // END SOLUTION
     // --8<-- [end:accumulate]
 }

@@ -32,7 +32,7 @@ int64_t addEmitter(std::vector<gpu::Emitter>& emitters, const course::SceneFile&
     course::fail(course::ExitCode::BadInput,
                  scene.path + ": " + std::to_string(count) + " " + what + ", but the "
                  "uniform block of this appendix holds at most " + std::to_string(limit) +
-                 " (" + limitName + " in shaders/A1_gl33_fragment/shared.h)");
+                 " (" + limitName + " in shaders/A2_gl33_fragment/shared.h)");
 }
 
 // Chapter 12's triangles, positions and normals, gathered mesh by mesh: they become

@@ -1,7 +1,7 @@
-// Appendix A1: chapter 12's path tracer on OpenGL 3.3, for machines without compute
-// shaders (macOS stops at 4.1). A fragment shader draws one sample per pixel per pass
-// over a fullscreen triangle; the shapes are in a buffer texture, the materials and
-// lights in a uniform buffer, and two framebuffers take turns holding the running mean.
+// Appendix A2: appendix A1's fragment-shader path tracer on OpenGL 3.3, for machines
+// without compute shaders or storage buffers (macOS stops at 4.1). The shapes are in a
+// buffer texture, the materials and lights in a uniform buffer; as in A1, a fragment
+// shader draws one sample per pixel per pass, and two framebuffers take turns.
 #include <algorithm>
 #include <chrono>
 #include <numeric>
@@ -19,7 +19,7 @@
 #include "shared.h"  // texture units, outputs and the std140 block, shared with GLSL
 
 int main(int argc, char** argv) {
-    course::CommandLine cli("Appendix A1: the path tracer as an OpenGL 3.3 fragment shader");
+    course::CommandLine cli("Appendix A2: the path tracer as an OpenGL 3.3 fragment shader");
     cli.acceptScene();  // --scene NAME|FILE, default cornell_spheres
     int depth = 6, batches = 1, frameSamples = 4;
     cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
@@ -68,8 +68,7 @@ int main(int argc, char** argv) {
 
         // --8<-- [start:passes]
         // 3. Chapter 12's seeding and progressive loop, a pass where it had a dispatch,
-        //    and its PathParameters block, written before each pass. The blocks are
-        //    connected by name every pass: a hot-reloaded program starts without that.
+        //    and its PathParameters block, written before each pass.
         course::ShaderProgram& seed = session.loadProgram(
             {{GL_FRAGMENT_SHADER, "seed.frag"}, {GL_VERTEX_SHADER, "fullscreen.vert"}});
         course::ShaderProgram& path = session.loadProgram(
@@ -91,6 +90,8 @@ int main(int argc, char** argv) {
                 makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth));
             parameters.sampleIndex = samples++;
             parameterBuffer.write(&parameters, sizeof parameters);
+            // GLSL 3.30 has no layout(binding): blocks are connected by name, every pass,
+            // as a hot-reloaded program starts without that.
             path.bindUniformBlock("PathParameters", PARAMETERS_BINDING);
             sceneBuffers.bind(path);
             accumulation.draw(path);  // no barrier: GL orders draws and texture reads

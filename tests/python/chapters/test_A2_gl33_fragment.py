@@ -1,4 +1,4 @@
-"""Appendix A1: chapter 12's path tracer as an OpenGL 3.3 fragment shader.
+"""Appendix A2: chapter 12's path tracer as an OpenGL 3.3 fragment shader.
 
 It runs on contexts that really are 3.3 (Mesa with its version forced down, on EGL and
 on OSMesa), refuses 3.2, and calls no GL function newer than 3.3. Its pictures are
@@ -49,11 +49,11 @@ def pictures(tmp_path_factory):
     for light in ("global", "direct"):
         options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
         runs["12", light, 1] = render(folder, "12", f"c12_{light}", *options, "--seed", 1)
-        runs["egl", light, 1] = render(folder, "A1", f"egl_{light}", *options, "--seed", 1,
+        runs["egl", light, 1] = render(folder, "A2", f"egl_{light}", *options, "--seed", 1,
                                        "--backend", "egl", env=GL33)
-        runs["egl", light, 2] = render(folder, "A1", f"egl_{light}_2", *options, "--seed", 2,
+        runs["egl", light, 2] = render(folder, "A2", f"egl_{light}_2", *options, "--seed", 2,
                                        "--backend", "egl", env=GL33)
-    runs["osmesa", "global", 1] = render(folder, "A1", "osmesa", *SIZE, "--spp", 64,
+    runs["osmesa", "global", 1] = render(folder, "A2", "osmesa", *SIZE, "--spp", 64,
                                          "--seed", 1, "--backend", "osmesa", env=GL33)
     return runs
 
@@ -129,7 +129,7 @@ def triangle_pictures(tmp_path_factory):
     for name, options in TRIANGLE_SCENES.items():
         options = [folder / o if str(o).endswith(".scene") else o for o in options]
         runs["12", name] = render(folder, "12", f"c12_{name}", *options, "--seed", 1)
-        runs["A1", name] = render(folder, "A1", f"a1_{name}", *options, "--seed", 1,
+        runs["A2", name] = render(folder, "A2", f"a1_{name}", *options, "--seed", 1,
                                   env=GL33)
     return runs
 
@@ -138,7 +138,7 @@ def triangle_pictures(tmp_path_factory):
 def test_triangles_same_seed_same_samples_as_chapter_12(triangle_pictures, scene):
     # The same corners and normals (placed in the world on the CPU as chapter 12 does),
     # the same hit test, normal blending and rules for the two normals: the same bits.
-    ours, our_stats = triangle_pictures["A1", scene]
+    ours, our_stats = triangle_pictures["A2", scene]
     theirs, their_stats = triangle_pictures["12", scene]
     for count in ("shapes", "emitters", "rays"):
         assert our_stats[count] == their_stats[count], count
@@ -152,26 +152,26 @@ def test_triangles_same_seed_same_samples_as_chapter_12(triangle_pictures, scene
 def test_flat_shading_normals_would_be_caught(tmp_path, triangle_pictures):
     # A check that cannot fail is not a check: the appendix shading the teapot with its
     # facets' own normals, as it did before it followed chapter 12, is not chapter 12's.
-    shaders = copy_shaders("A1", tmp_path)
+    shaders = copy_shaders("A2", tmp_path)
     triangle = shaders / "triangle.glsl"
     smooth = "vec3 normal = smoothNormal(normalsOf(triangle), barycentric, geometricNormal);"
     assert smooth in triangle.read_text()
     triangle.write_text(triangle.read_text().replace(smooth, "vec3 normal = geometricNormal;"))
-    flat, _ = render(tmp_path, "A1", "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
+    flat, _ = render(tmp_path, "A2", "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
                      "--shader-dir", shaders, env=GL33)
     assert not np.array_equal(flat, triangle_pictures["12", "teapot"][0])
 
 
 def test_random_numbers_are_chapter_12s_file(tmp_path):
     # Bit for bit the same generator: the very same GLSL (it needs nothing above 3.30).
-    ours = (ROOT / "shaders" / "A1_gl33_fragment" / "random.glsl").read_bytes()
+    ours = (ROOT / "shaders" / "A2_gl33_fragment" / "random.glsl").read_bytes()
     assert ours == (ROOT / "shaders" / "12_light_sampling" / "random.glsl").read_bytes()
 
 
 def test_splitting_the_passes_changes_nothing(tmp_path):
-    one, _ = render(tmp_path, "A1", "one", "--width", 24, "--height", 24, "--spp", 16,
+    one, _ = render(tmp_path, "A2", "one", "--width", 24, "--height", 24, "--spp", 16,
                     env=GL33)
-    four, _ = render(tmp_path, "A1", "four", "--width", 24, "--height", 24, "--spp", 16,
+    four, _ = render(tmp_path, "A2", "four", "--width", 24, "--height", 24, "--spp", 16,
                      "--batches", 4, env=GL33)
     assert np.array_equal(one, four)
 
@@ -181,7 +181,7 @@ def test_splitting_the_passes_changes_nothing(tmp_path):
 @pytest.mark.parametrize("backend", ["egl", "osmesa"])
 def test_refuses_a_gl_32_context_with_exit_4(tmp_path, backend):
     out = tmp_path / "x.png"
-    result = run_chapter("A1", "--headless", "--backend", backend, "--out", out,
+    result = run_chapter("A2", "--headless", "--backend", backend, "--out", out,
                          env={"MESA_GL_VERSION_OVERRIDE": "3.2"})
     assert result.returncode == 4, result.stderr
     assert "needs OpenGL 3.3 core" in result.stderr
@@ -239,7 +239,7 @@ def test_only_gl33_functions_in_the_appendix_and_the_common_code_it_runs():
     everything, gl33 = gl_commands()
     assert {"glTexBuffer", "glUniformBlockBinding", "glQueryCounter"} <= gl33
     assert not {"glDispatchCompute", "glProgramUniform1i", "glMemoryBarrier"} & gl33
-    appendix = sorted((ROOT / "chapters" / "A1_gl33_fragment").glob("*.[ch]*"))
+    appendix = sorted((ROOT / "chapters" / "A2_gl33_fragment").glob("*.[ch]*"))
     found = 0
     for path in appendix:
         for name, line in gl_calls(path, everything):
@@ -276,7 +276,7 @@ def test_more_materials_than_the_uniform_block_holds_is_exit_3(tmp_path):
     scene.write_text(CAMERA + "".join(f"material m{i} albedo 0.5 0.5 0.5 emission 1 1 1\n"
                                       for i in range(257)) + "sphere 0 0 0 1 m0\n")
     out = tmp_path / "x.png"
-    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out, env=GL33)
+    result = run_chapter("A2", "--headless", "--scene", scene, "--out", out, env=GL33)
     assert result.returncode == 3, result.stderr
     assert str(scene) in result.stderr and "257 materials" in result.stderr
     assert "MAX_MATERIALS" in result.stderr
@@ -287,7 +287,7 @@ def test_more_emitters_than_the_uniform_block_holds_is_exit_3(tmp_path):
     scene = tmp_path / "lights.scene"
     spheres = "".join(f"sphere {i % 20 - 10} {i // 20 - 7} -5 0.1 glow\n" for i in range(257))
     scene.write_text(CAMERA + "material glow albedo 0.5 0.5 0.5 emission 1 1 1\n" + spheres)
-    result = run_chapter("A1", "--headless", "--scene", scene, "--out", tmp_path / "x.png",
+    result = run_chapter("A2", "--headless", "--scene", scene, "--out", tmp_path / "x.png",
                          env=GL33)
     assert result.returncode == 3, result.stderr
     assert str(scene) in result.stderr and "257 emitting shapes" in result.stderr
@@ -298,13 +298,13 @@ def test_more_texels_than_the_buffer_texture_holds_is_exit_4(tmp_path):
     # The Cornell box with spheres needs 2 x 2 + 6 x 4 = 28 texels; a GL that allowed
     # only 27 (COURSE_MAX_TEXTURE_BUFFER_TEXELS lowers GL_MAX_TEXTURE_BUFFER_SIZE).
     out = tmp_path / "x.png"
-    result = run_chapter("A1", "--headless", "--out", out,
+    result = run_chapter("A2", "--headless", "--out", out,
                          env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "27"})
     assert result.returncode == 4, result.stderr
     assert "cornell_spheres.scene" in result.stderr and "28 texels" in result.stderr
     assert "GL_MAX_TEXTURE_BUFFER_SIZE" in result.stderr
     assert not out.exists()
-    result = run_chapter("A1", "--headless", "--out", out, "--width", 8, "--height", 8,
+    result = run_chapter("A2", "--headless", "--out", out, "--width", 8, "--height", 8,
                          env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "28"})
     assert result.returncode == 0, result.stderr
 
@@ -316,12 +316,12 @@ def test_a_triangles_corners_and_normal_count_in_the_texels(tmp_path):
     scene.write_text((SCENES / "cornell_room.scene").read_text() +
                      "triangle -0.5 -1 0  0.5 -1 0  0 0 0  white\n")
     out = tmp_path / "x.png"
-    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out,
+    result = run_chapter("A2", "--headless", "--scene", scene, "--out", out,
                          env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "29"})
     assert result.returncode == 4, result.stderr
     assert "7 shapes need 30 texels" in result.stderr
     assert not out.exists()
-    result = run_chapter("A1", "--headless", "--scene", scene, "--out", out, "--width", 8,
+    result = run_chapter("A2", "--headless", "--scene", scene, "--out", out, "--width", 8,
                          "--height", 8, env={**GL33, "COURSE_MAX_TEXTURE_BUFFER_TEXELS": "30"})
     assert result.returncode == 0, result.stderr
 
@@ -330,9 +330,9 @@ def test_too_many_loop_iterations_are_refused_as_in_chapter_12(tmp_path):
     # ~220 shapes x 1001 bounces: far beyond the 65535 iterations an invocation gets on
     # Mesa 22's llvmpipe. Refused where the appendix measures a limit for its fragment
     # shaders; drawn where there is none (paths end long before 1000 bounces).
-    limit = loop_limit("A1", env=GL33)
+    limit = loop_limit("A2", env=GL33)
     out = tmp_path / "x.png"
-    result = run_chapter("A1", "--headless", "--scene", "cornell_gems", "--depth", 1000,
+    result = run_chapter("A2", "--headless", "--scene", "cornell_gems", "--depth", 1000,
                          "--width", 8, "--height", 8, "--out", out, env=GL33)
     if limit is None:
         assert result.returncode == 0, result.stderr
@@ -349,7 +349,7 @@ def test_too_many_loop_iterations_are_refused_as_in_chapter_12(tmp_path):
 @pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path, window_env):
     out = tmp_path / "window.pfm"
-    result = subprocess.run(window_command("A1", out, "--frames", 20, "--frame-samples", 3,
+    result = subprocess.run(window_command("A2", out, "--frames", 20, "--frame-samples", 3,
                                            "--script-camera-move"),
                             capture_output=True, text=True, timeout=WINDOW_SAFETY_TIMEOUT,
                             env={**window_env, **GL33})
@@ -364,7 +364,7 @@ def test_window_on_gl33_refines_and_a_camera_move_starts_over(tmp_path, window_e
 
 @pytest.mark.skipif(not xvfb_available(), reason="Xvfb is not installed")
 def test_window_hot_reloads_and_survives_a_broken_shader(tmp_path, window_env):
-    image = check_hot_reload("A1", copy_shaders("A1", tmp_path), "path.frag",
+    image = check_hot_reload("A2", copy_shaders("A2", tmp_path), "path.frag",
                              ("newMean = vec4(mean, 1.0);",
                               "newMean = vec4(0.25, 0.5, 0.75, 1.0);"),
                              tmp_path / "window.pfm", "--frame-samples", 1,
