@@ -112,6 +112,22 @@ def test_the_bvh_table_gives_medians_and_names_the_machine():
     assert "The machine was quiet" in table
 
 
+def test_the_machine_is_named_with_its_widest_vector_extension():
+    # What decides how many lanes llvmpipe and Mitsuba run: every figure names it.
+    intel = "flags\t\t: fpu sse4_2 avx avx2 avx512f avx512bw\n"
+    amd = "flags\t\t: fpu sse4_2 avx avx2 fma\n"
+    arm = "Features\t: fp asimd evtstrm\n"
+    assert bench_common.vector_extension(intel) == "AVX-512"
+    assert bench_common.vector_extension(amd) == "AVX2"
+    assert bench_common.vector_extension(arm) == "NEON"
+    assert bench_common.vector_extension("") == "unknown"
+    assert bench_common.vector_extension() in {n for _, n in bench_common.VECTOR_EXTENSIONS} | {
+        "unknown"}
+    words = bench_common.machine_words({**MACHINE, "vectors": "AVX2"})
+    assert "Some CPU (2 cores, AVX2)" in words
+    assert "Some CPU (2 cores)" in bench_common.machine_words(MACHINE)  # an older report
+
+
 def test_the_grading_table_gives_medians_and_ranges():
     report = {"date": "today", "cpu": "Some CPU", "cores": 2, "repeat": 3,
               "gl_renderer": MACHINE["gl_renderer"], "gl_version": MACHINE["gl_version"],

@@ -28,6 +28,27 @@ def cpu_model() -> str:
     return platform.processor() or "unknown"
 
 
+# The widest vector extension first: what decides how many lanes a CPU renderer (Mesa's
+# llvmpipe, Mitsuba's LLVM backend) can run at once, so every figure names it.
+VECTOR_EXTENSIONS = (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX"),
+                     ("sse4_2", "SSE4.2"), ("neon", "NEON"), ("asimd", "NEON"))
+
+
+def vector_extension(cpuinfo: str | None = None) -> str:
+    """The CPU's widest vector extension ('AVX-512', 'AVX2', ...), from /proc/cpuinfo's
+    flags; 'unknown' where there are none to read."""
+    if cpuinfo is None:
+        try:
+            cpuinfo = Path("/proc/cpuinfo").read_text()
+        except OSError:
+            return "unknown"
+    flags = set()
+    for line in cpuinfo.splitlines():
+        if line.startswith(("flags", "Features")):
+            flags.update(line.split(":", 1)[1].split())
+    return next((name for flag, name in VECTOR_EXTENSIONS if flag in flags), "unknown")
+
+
 def mesa_version(gl_version: str) -> str | None:
     """'4.5 (Core Profile) Mesa 22.3.6' -> '22.3.6'; None for a GL that is not Mesa."""
     match = re.search(r"Mesa (\S+)", gl_version)
@@ -51,15 +72,18 @@ def mitsuba_version() -> str | None:
 def describe_machine(program_stats: dict) -> dict:
     """The machine, from /proc and from a chapter program's --json line (its GL strings)."""
     renderer, gl_version = program_stats["renderer"], program_stats["gl_version"]
-    return {"cpu": cpu_model(), "cores": os.cpu_count(), "gl_renderer": renderer,
+    return {"cpu": cpu_model(), "cores": os.cpu_count(), "vectors": vector_extension(),
+            "gl_renderer": renderer,
             "gl_version": gl_version, "mesa": mesa_version(gl_version),
             "llvm": llvm_version(renderer), "mitsuba": mitsuba_version(),
             "python": platform.python_version()}
 
 
 def machine_words(machine: dict) -> str:
-    """'AMD EPYC (2 cores), Mesa 22.3.6 with LLVM 15.0.6 (`llvmpipe (...)`)'."""
-    words = f"{machine['cpu']} ({machine['cores']} cores), "
+    """'AMD EPYC (2 cores, AVX2), Mesa 22.3.6 with LLVM 15.0.6 (`llvmpipe (...)`)'; a
+    report from before the vector extension was recorded leaves it out."""
+    vectors = f", {machine['vectors']}" if machine.get("vectors") else ""
+    words = f"{machine['cpu']} ({machine['cores']} cores{vectors}), "
     if machine.get("mesa"):
         words += f"Mesa {machine['mesa']}"
         words += f" with LLVM {machine['llvm']}" if machine.get("llvm") else ""

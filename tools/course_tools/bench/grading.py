@@ -67,8 +67,9 @@ def grade_on_one_core(build: Path, chapter: str, submission: Path, out: Path) ->
 
 
 def page_table(report: dict) -> str:
-    lines = [f"Measured {report['date']} by `./course bench grading` on {report['cpu']}, "
-             f"one core (of {report['cores']}), `{report['gl_renderer']}`, OpenGL "
+    vectors = f", {report['vectors']}" if report.get("vectors") else ""
+    lines = [f"Measured {report['date']} by `./course bench grading` on {report['cpu']}"
+             f"{vectors}, one core (of {report['cores']}), `{report['gl_renderer']}`, OpenGL "
              f"{report['gl_version']}; each chapter's solution graded as a submission, "
              f"median of {report['repeat']}. {bench_common.quiet_words(report['quiet'])}",
              "",
@@ -127,7 +128,8 @@ def main(build: Path, chapters: list[str], repeat: int, gl_renderer: str,
         print(f"{chapter:22} {row['seconds']:7.1f} s  "
               f"({', '.join(f'{t:.1f}' for t in times)})", flush=True)
     report = {"date": time.strftime("%Y-%m-%d"), "cpu": bench_common.cpu_model(),
-              "cores": os.cpu_count(), "gl_renderer": gl_renderer,
+              "cores": os.cpu_count(), "vectors": bench_common.vector_extension(),
+              "gl_renderer": gl_renderer,
               "gl_version": gl_version, "mesa": bench_common.mesa_version(gl_version),
               "llvm": bench_common.llvm_version(gl_renderer), "repeat": repeat,
               "python": platform.python_version(), "chapters": rows,
