@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "course/error.h"
+#include "course/log.h"
 
 namespace {
 
@@ -161,6 +162,7 @@ std::string writeSceneCode(const GpuScene& scene, const SceneCodeChoice& choice,
              << constantArray("Emitter", "SCENE_EMITTERS", scene.emitters)
              << forEach("FOR_EACH_SPHERE", scene.spheres.size())
              << forEach("FOR_EACH_QUAD", scene.quads.size());
+    course::logInfo("scene_code.glsl, as written for this scene:\n" + code.str());
     return code.str();
 }
 // --8<-- [end:write]

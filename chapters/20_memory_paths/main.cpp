@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
         // the scene: constants for a small scene, buffer textures otherwise.
         SceneCodeChoice choice = chooseSceneCode(codeOptions, scene, sceneFile.path);
         std::string sceneCode = writeSceneCode(
-            scene, choice, !environment.distributions.empty(), sceneFile.camera.lensRadius > 0);
+            scene, choice, sceneFile.hasEnvironment(), sceneFile.camera.lensRadius > 0);
         recordSceneCode(choice, session.stats());
         // --8<-- [end:scene_code]
 

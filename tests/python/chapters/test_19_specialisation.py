@@ -108,3 +108,17 @@ def test_the_fast_path_agrees_with_mitsuba(tmp_path):
     scene_file = ROOT / "assets" / "scenes" / "cornell_box.scene"
     compared = path_checks.assert_agrees_with_mitsuba(ours, 512, scene_file)
     assert len(compared) >= 5, compared
+
+
+def test_the_pages_listing_is_what_the_program_writes(tmp_path):
+    # Page 19 shows the start of the shader part written for the Cornell box; --verbose
+    # prints what the program wrote, so the listing cannot drift from the code.
+    result = run_chapter("19", "--headless", "--scene", "cornell_box", "--width", 8,
+                         "--height", 8, "--spp", 1, "--verbose", "--out", tmp_path / "x.png")
+    assert result.returncode == 0, result.stderr
+    printed = result.stderr.split("scene_code.glsl, as written for this scene:\n", 1)[1]
+    page = (ROOT / "book" / "docs" / "chapters" / "19_specialisation.md").read_text()
+    listing = page.split("For the Cornell box it begins:\n\n```glsl\n", 1)[1]
+    listing = listing.split("```", 1)[0].splitlines()
+    assert len(listing) >= 10
+    assert printed.splitlines()[:len(listing)] == listing
