@@ -128,6 +128,26 @@ def test_the_machine_is_named_with_its_widest_vector_extension():
     assert "Some CPU (2 cores)" in bench_common.machine_words(MACHINE)  # an older report
 
 
+def test_a_page_keeps_a_table_per_kind_of_cpu(tmp_path):
+    # An Intel with AVX-512 and an AMD with AVX2 give other ratios: a bench replaces the
+    # table of the kind it ran on and keeps the others, and an older table without a
+    # kind is kept unless it names this machine's CPU.
+    start, end = "<!-- t:start -->", "<!-- t:end -->"
+    page = tmp_path / "page.md"
+    page.write_text(f"Before.\n{start}\nMeasured on Old AMD (2 cores): 1.0x\n{end}\nAfter.\n")
+    intel = {"cpu": "Some Xeon", "vectors": "AVX-512"}
+    amd = {"cpu": "Old AMD", "vectors": "AVX2"}
+    bench_common.book_or_not(True, page, start, end, "Xeon: 2.0x", intel)
+    text = page.read_text()
+    assert "Old AMD (2 cores): 1.0x" in text and "Xeon: 2.0x" in text
+    assert text.startswith("Before.\n") and text.endswith(f"{end}\nAfter.\n")
+    bench_common.book_or_not(True, page, start, end, "AMD: 3.0x", amd)  # replaces the old
+    bench_common.book_or_not(True, page, start, end, "Xeon: 2.5x", intel)
+    block = page.read_text().split(start)[1].split(end)[0]
+    assert bench_common.tables_by_kind(block) == [("Old AMD, AVX2", "AMD: 3.0x"),
+                                                  ("Some Xeon, AVX-512", "Xeon: 2.5x")]
+
+
 def test_the_grading_table_gives_medians_and_ranges():
     report = {"date": "today", "cpu": "Some CPU", "cores": 2, "repeat": 3,
               "gl_renderer": MACHINE["gl_renderer"], "gl_version": MACHINE["gl_version"],

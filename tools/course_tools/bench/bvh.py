@@ -212,7 +212,7 @@ def main(binary: Path, meshes: Path, repeat: int = 3, update_book: bool = False,
         figure.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(drawn, figure)
         print(f"bench: wrote {figure}")
-    bench_common.book_or_not(update_book, page, START, END, table)
+    bench_common.book_or_not(update_book, page, START, END, table, report["machine"])
     # The targets of the chapter (issue #6), checked where both sides could run.
     primary = (speed(report, 6320, "primary", "bvh") or 0) / (
         speed(report, 6320, "primary", "brute_force") or float("inf"))

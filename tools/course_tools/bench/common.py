@@ -209,13 +209,56 @@ def write_table(page: Path, start: str, end: str, table: str) -> bool:
     return True
 
 
-def book_or_not(update_book: bool, page: Path, start: str, end: str, table: str):
-    """Writes the table into the page when asked (--update-book); says so either way."""
+# Machines differ (an AMD with AVX2, an Intel with AVX-512), so a page keeps one table
+# per kind of CPU measured: between a bench's markers, each kind's table follows a line
+# naming it, and a bench replaces only the table of the kind it ran on.
+KIND_LINE = re.compile(r"^<!-- measured on: (.+?) -->$", re.MULTILINE)
+
+
+def machine_kind(machine: dict) -> str:
+    """'Intel(R) Xeon(R) Processor, AVX-512': the CPU and its widest vector extension."""
+    vectors = machine.get("vectors") or "unknown vector extension"
+    return f"{machine.get('cpu') or 'unknown CPU'}, {vectors}"
+
+
+def tables_by_kind(block: str) -> list[tuple[str | None, str]]:
+    """(kind, table) for each table between a bench's markers; kind None for a table
+    written before tables were kept per kind."""
+    parts = KIND_LINE.split(block)
+    tables = [(None, parts[0].strip())] if parts[0].strip() else []
+    tables += [(kind, text.strip()) for kind, text in zip(parts[1::2], parts[2::2])]
+    return tables
+
+
+def write_machine_table(page: Path, start: str, end: str, table: str,
+                        machine: dict) -> bool:
+    """write_table for the table of one kind of CPU: the other kinds' tables stay. An
+    older table without a kind is replaced when it names this machine's CPU, and kept
+    (as the record of another machine) when it does not."""
+    text = page.read_text()
+    if start not in text or end not in text:
+        print(f"bench: {page} has no {start} ... {end}: table not written", file=sys.stderr)
+        return False
+    kind, cpu = machine_kind(machine), machine.get("cpu") or ""
+    block = text.split(start, 1)[1].split(end, 1)[0]
+    kept = [(k, t) for k, t in tables_by_kind(block)
+            if k != kind and not (k is None and cpu and cpu in t)]
+    body = "\n\n".join((f"<!-- measured on: {k} -->\n{t}" if k else t)
+                         for k, t in [*kept, (kind, table.strip())])
+    return write_table(page, start, end, body)
+
+
+def book_or_not(update_book: bool, page: Path, start: str, end: str, table: str,
+                machine: dict | None = None):
+    """Writes the table into the page when asked (--update-book); says so either way.
+    With the machine it ran on, the table is that kind of CPU's (write_machine_table)."""
     if not update_book:
         print(f"bench: {page.name} left as it is (./course bench --update-book writes "
               "this table there)")
         return
-    if write_table(page, start, end, table):
+    written = (write_machine_table(page, start, end, table, machine) if machine
+               else write_table(page, start, end, table))
+    if written:
         print(f"bench: wrote the table into {page}")
 
 
@@ -236,4 +279,4 @@ def publish_pages(report: dict, out: Path, tables: dict, pages: dict, update_boo
         print(tables[name])
     print(f"bench: wrote {out}")
     for name, (page, start, end) in pages.items():
-        book_or_not(update_book, page, start, end, tables[name])
+        book_or_not(update_book, page, start, end, tables[name], report.get("machine"))

@@ -139,5 +139,5 @@ def main(build: Path, chapters: list[str], repeat: int, gl_renderer: str,
     out.write_text(json.dumps(report, indent=2))
     print(page_table(report))
     print(out)
-    bench_common.book_or_not(update_book, page, START, END, page_table(report))
+    bench_common.book_or_not(update_book, page, START, END, page_table(report), report)
     return status

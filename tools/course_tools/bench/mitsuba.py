@@ -316,7 +316,7 @@ def main(scenes: list[Scene], settings: Settings, update_book: bool = False,
     table = page_table(report)
     print(table)
     print(f"bench: wrote {out}")
-    bench_common.book_or_not(update_book, page, START, END, table)
+    bench_common.book_or_not(update_book, page, START, END, table, report["machine"])
     worst, where = largest_region_difference(report)
     agrees = worst < AGREEMENT
     print(f"{'ok  ' if agrees else 'MISS'} every region within {100 * AGREEMENT:.0f}% of "
