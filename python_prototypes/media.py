@@ -19,6 +19,8 @@ Light crossing a medium is absorbed (coefficient sigma_a, per metre) and scatter
   sigma_t(x) / sigma_bar (the distance it returns has the density sigma_t(t) T(t)), and
   ratio tracking multiplies (1 - sigma_t(x) / sigma_bar) over the tentative collisions,
   an unbiased estimate of T for shadow rays.
+- A chromatic medium (sigma_t per channel) still draws one distance per path: picked
+  with one channel, weighted per channel over the mean of the channels' densities.
 
 Conventions: a direction is the one light travels in; cos_theta is the cosine between
 the direction of travel before and after scattering (pbrt-v4 and Mitsuba 3 write the
@@ -169,3 +171,23 @@ def ratio_tracking(density: PiecewiseDensity, t_max, rng, count):
         alive &= t < t_max
         weight[alive] *= 1.0 - density.sigma_t(t[alive]) / majorant
     return weight
+
+
+# ---------------------------------------------------------------------------------------
+# Chromatic media: one distance for three channels
+# ---------------------------------------------------------------------------------------
+
+def chromatic_escape_estimate(sigma_t_rgb, distance, rng, count):
+    """Transmittance through a homogeneous slab whose sigma_t differs per channel, with
+    one free flight per path for all three channels, as Mitsuba's volpath does: the
+    distance is drawn with a channel picked uniformly, so its density is the mean of
+    the three channels' densities, and each channel's estimate is weighted by its own
+    probability over that mean (a one-sample multiple importance estimate, balance
+    heuristic). Returns (count, 3) estimates whose mean is exp(-sigma_t d) per channel."""
+    sigma = np.asarray(sigma_t_rgb, dtype=float)
+    channel = rng.integers(0, 3, size=count)
+    t = sample_free_flight(sigma[channel], rng.random(count))
+    escaped = (t >= distance)[:, None]
+    # The chance of flying past `distance` in each channel, and its mean over channels.
+    past = np.exp(-sigma * distance)
+    return np.where(escaped, past / past.mean(), 0.0) * np.ones((count, 3))

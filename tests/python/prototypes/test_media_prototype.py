@@ -196,3 +196,37 @@ def test_ratio_tracking_with_the_ratio_the_wrong_way_up_is_caught():
         alive &= t < t_max
         weight[alive] *= SMOKE.sigma_t(t[alive]) / majorant
     assert z_score(weight, math.exp(-SMOKE.optical_depth(t_max))) > SIGMAS
+
+
+# ---------------------------------------------------------------- chromatic media
+
+RED_SMOKE = np.array([0.2, 1.0, 3.0])  # sigma_t per channel: thin in red, dense in blue
+
+
+@pytest.mark.parametrize("distance", [0.3, 1.0, 2.0])
+def test_one_distance_for_three_channels_is_unbiased_in_each(distance):
+    rng = np.random.default_rng(9)
+    estimates = media.chromatic_escape_estimate(RED_SMOKE, distance, rng, SAMPLES)
+    for channel in range(3):
+        assert z_score(estimates[:, channel],
+                       math.exp(-RED_SMOKE[channel] * distance)) < SIGMAS, channel
+
+
+def test_one_distance_without_weights_is_caught_and_the_chosen_channel_alone_is_noisy():
+    rng = np.random.default_rng(10)
+    distance = 1.0
+    channel = rng.integers(0, 3, size=SAMPLES)
+    t = media.sample_free_flight(RED_SMOKE[channel], rng.random(SAMPLES))
+    escaped = (t >= distance)[:, None]
+    past = np.exp(-RED_SMOKE * distance)
+    # An escape counted as 1 in every channel: the mean of the three transmittances in
+    # each, so red comes out too dark and blue too bright (grey smoke).
+    grey = np.where(escaped, 1.0, 0.0) * np.ones((SAMPLES, 3))
+    assert z_score(grey[:, 0], past[0]) > SIGMAS and z_score(grey[:, 2], past[2]) > SIGMAS
+    # Weighted by the picked channel's own chance alone: unbiased, but a blue-picked
+    # path that escapes weighs red by exp(3 - 0.2) ~ 16, so red is far noisier than with
+    # the mean over the channels.
+    alone = np.where(escaped, past / past[channel][:, None], 0.0)
+    assert z_score(alone[:, 0], past[0]) < SIGMAS
+    mean_weighted = media.chromatic_escape_estimate(RED_SMOKE, distance, rng, SAMPLES)
+    assert np.var(alone[:, 0]) > 2.0 * np.var(mean_weighted[:, 0])
