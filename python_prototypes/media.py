@@ -191,3 +191,47 @@ def chromatic_escape_estimate(sigma_t_rgb, distance, rng, count):
     # The chance of flying past `distance` in each channel, and its mean over channels.
     past = np.exp(-sigma * distance)
     return np.where(escaped, past / past.mean(), 0.0) * np.ones((count, 3))
+
+
+# ---------------------------------------------------------------------------------------
+# A furnace: a volumetric path tracer for one sphere of medium
+# ---------------------------------------------------------------------------------------
+
+def sphere_exit_distance(origin, direction, radius):
+    """How far a ray from inside a sphere about the origin travels before it leaves."""
+    b = np.sum(origin * direction, axis=-1)
+    c = np.sum(origin * origin, axis=-1) - radius * radius
+    return -b + np.sqrt(np.maximum(b * b - c, 0.0))
+
+
+def furnace(sigma_s, sigma_a, g, radius, rng, count, max_bounces=1000):
+    """Radiance seen along `count` rays that enter a sphere of homogeneous medium through
+    its centre, lit by a uniform environment of radiance 1 and nothing else: each path
+    flies (free flights with sigma_t), scatters (Henyey-Greenstein) until it leaves,
+    weighted by the albedo sigma_s / sigma_t at each scattering, and then sees the
+    environment. With no absorption the answer is exactly 1 whatever sigma_s and g (the
+    medium only moves light about); with no scattering it is exp(-sigma_a 2 radius)."""
+    sigma_t = sigma_s + sigma_a
+    albedo = sigma_s / sigma_t if sigma_t > 0 else 0.0
+    position = np.tile([0.0, 0.0, -radius], (count, 1))
+    direction = np.tile([0.0, 0.0, 1.0], (count, 1))
+    weight = np.ones(count)
+    radiance = np.zeros(count)
+    alive = np.ones(count, dtype=bool)
+    for _ in range(max_bounces):
+        if not alive.any():
+            break
+        exit_distance = sphere_exit_distance(position[alive], direction[alive], radius)
+        flight = (sample_free_flight(sigma_t, rng.random(alive.sum())) if sigma_t > 0
+                  else np.full(alive.sum(), np.inf))
+        leaves = flight >= exit_distance
+        index = np.flatnonzero(alive)
+        radiance[index[leaves]] = weight[index[leaves]]  # the environment's radiance is 1
+        alive[index[leaves]] = False
+        scatter = index[~leaves]
+        position[scatter] += flight[~leaves, None] * direction[scatter]
+        weight[scatter] *= albedo
+        direction[scatter] = sample_henyey_greenstein(direction[scatter], g,
+                                                      rng.random(len(scatter)),
+                                                      rng.random(len(scatter)))
+    return radiance

@@ -230,3 +230,30 @@ def test_one_distance_without_weights_is_caught_and_the_chosen_channel_alone_is_
     assert z_score(alone[:, 0], past[0]) < SIGMAS
     mean_weighted = media.chromatic_escape_estimate(RED_SMOKE, distance, rng, SAMPLES)
     assert np.var(alone[:, 0]) > 2.0 * np.var(mean_weighted[:, 0])
+
+
+# ---------------------------------------------------------------- the furnace
+
+@pytest.mark.parametrize("sigma_s, g", [(0.5, 0.0), (4.0, 0.0), (4.0, 0.8), (4.0, -0.5)])
+def test_a_scattering_sphere_in_a_white_furnace_is_white(sigma_s, g):
+    # No absorption: light is only moved about, so every ray sees radiance 1 exactly.
+    rng = np.random.default_rng(11)
+    radiance = media.furnace(sigma_s, 0.0, g, 1.0, rng, 20_000)
+    assert np.allclose(radiance, 1.0)
+
+
+def test_an_absorbing_sphere_is_beer_lambert_along_its_diameter():
+    # Each path escapes (1) or is absorbed (0): the mean is the transmittance.
+    rng = np.random.default_rng(12)
+    radiance = media.furnace(0.0, 0.7, 0.0, 1.0, rng, SAMPLES)
+    assert z_score(radiance, math.exp(-0.7 * 2.0)) < SIGMAS
+
+
+def test_scattering_and_absorbing_lies_between_and_loses_light_with_each_bounce():
+    rng = np.random.default_rng(13)
+    radiance = media.furnace(2.0, 0.5, 0.3, 1.0, rng, SAMPLES)
+    # Above pure absorption along the diameter (scattering can shorten the way out),
+    # below 1, and its estimate is a mean of albedo^bounces.
+    assert math.exp(-2.5 * 2.0) < radiance.mean() < 1.0
+    bounces = np.log(radiance[radiance > 0]) / math.log(2.0 / 2.5)
+    assert np.allclose(bounces, np.round(bounces))
