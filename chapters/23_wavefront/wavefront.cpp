@@ -120,9 +120,10 @@ void Wavefront::computeDispatches() {
 
 void Wavefront::empty(uint32_t firstQueue, uint32_t count) {
     const uint32_t zero = 0;
-    glClearNamedBufferSubData(queues_.id(), GL_R32UI, firstQueue * sizeof(gpu::Queue),
-                              count * sizeof(gpu::Queue), GL_RED_INTEGER, GL_UNSIGNED_INT,
-                              &zero);
+    // glClearBufferSubData is OpenGL 4.3, as the chapter asks (the named form is 4.5).
+    glBindBuffer(GL_COPY_WRITE_BUFFER, queues_.id());
+    glClearBufferSubData(GL_COPY_WRITE_BUFFER, GL_R32UI, firstQueue * sizeof(gpu::Queue),
+                         count * sizeof(gpu::Queue), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
 uint32_t Wavefront::queueSize(uint32_t queue) const {

@@ -11,14 +11,12 @@ regions of the Cornell box agree within their statistical error
 from __future__ import annotations
 
 import json
-import re
 import subprocess
-import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+import gl_registry
 from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders,
                       loop_limit, read_pfm, regions_agreeing, run_chapter, window_command,
                       xvfb_available)
@@ -190,43 +188,6 @@ def test_refuses_a_gl_32_context_with_exit_4(tmp_path, backend):
     assert not out.exists()
 
 
-def gl_commands() -> tuple[set[str], set[str]]:
-    """(every GL command, the GL 3.3 core profile's), from the Khronos gl.xml that glad2
-    ships and the build generates the loader from."""
-    import glad
-    registry = ET.parse(Path(glad.__file__).parent / "files" / "gl.xml").getroot()
-    everything = {c.findtext("proto/name") for c in registry.iter("command")}
-    core, removed = set(), set()
-    for feature in registry.iter("feature"):
-        version = tuple(map(int, feature.get("number").split(".")))
-        if feature.get("api") != "gl" or version > (3, 3):
-            continue
-        for part, names in (("require", core), ("remove", removed)):
-            for block in feature.iter(part):
-                if block.get("profile") in (None, "core"):
-                    names.update(c.get("name") for c in block.iter("command"))
-    return everything, core - removed
-
-
-def gl_calls(path: Path, everything: set[str]) -> list[tuple[str, int]]:
-    """(GL function, line number) of every GL function named in a source file."""
-    calls = []
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
-        code = line.split("//")[0]
-        calls += [(name, number) for name in re.findall(r"\bgl[A-Z]\w*", code)
-                  if name in everything]
-    return calls
-
-
-def enclosing_function(path: Path, line_number: int) -> str:
-    """The text of the top-level definition around a line: from the last line that
-    starts in column 0 with code (functions are not indented in the course's style)."""
-    lines = path.read_text().splitlines()[:line_number]
-    start = max(i for i, line in enumerate(lines)
-                if re.match(r"[A-Za-z]", line) and not line.startswith("namespace"))
-    return "\n".join(lines[start:])
-
-
 # Common functions only the compute chapters call: the appendix must not.
 COMPUTE_ONLY = ["dispatchCovering", "workGroupSize", "bindStorage", "loadCompute"]
 # How common/ keeps a newer call from a GL 3.3 context: a version check in the same
@@ -236,13 +197,13 @@ GUARDS = ["GLAD_GL_VERSION_4_1", "GLAD_GL_VERSION_4_2", "GLAD_GL_VERSION_4_3",
 
 
 def test_only_gl33_functions_in_the_appendix_and_the_common_code_it_runs():
-    everything, gl33 = gl_commands()
+    gl33 = gl_registry.core_commands((3, 3))
     assert {"glTexBuffer", "glUniformBlockBinding", "glQueryCounter"} <= gl33
     assert not {"glDispatchCompute", "glProgramUniform1i", "glMemoryBarrier"} & gl33
     appendix = sorted((ROOT / "chapters" / "A2_gl33_fragment").glob("*.[ch]*"))
     found = 0
     for path in appendix:
-        for name, line in gl_calls(path, everything):
+        for name, line in gl_registry.gl_calls(path):
             assert name in gl33, f"{path.name}:{line}: {name} is newer than GL 3.3"
             found += 1
         for function in COMPUTE_ONLY:
@@ -250,10 +211,10 @@ def test_only_gl33_functions_in_the_appendix_and_the_common_code_it_runs():
     assert found > 30
     # common/: a newer call must sit behind a version check or in a compute-only function.
     for path in sorted((ROOT / "common").rglob("*.[ch]*")):
-        for name, line in gl_calls(path, everything):
+        for name, line in gl_registry.gl_calls(path):
             if name in gl33:
                 continue
-            function = enclosing_function(path, line)
+            function = gl_registry.enclosing_function(path, line)
             header = function.splitlines()[0]
             assert any(guard in function for guard in GUARDS) or \
                 any(f"::{f}(" in header for f in COMPUTE_ONLY), \
