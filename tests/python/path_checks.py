@@ -317,6 +317,16 @@ def named_region(image: np.ndarray, scene_file: Path, name: str):
     return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
 
 
+def render_with_stats(chapter: str, tmp_path, name: str, *args,
+                      env=None) -> tuple[np.ndarray, dict]:
+    """Renders a PFM headless; returns the linear image and the --json statistics."""
+    out = tmp_path / f"{name}.pfm"
+    result = run_chapter(chapter, "--headless", "--out", out, "--json", *map(str, args),
+                         env=env)
+    assert result.returncode == 0, result.stderr
+    return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
+
+
 def render_stats(chapter: str, tmp_path, *args) -> dict:
     """The chapter's --json statistics for one headless render with args."""
     result = run_chapter(chapter, "--headless", "--out", tmp_path / "stats.pfm", "--json",

@@ -15,6 +15,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from path_checks import render_with_stats as render
 from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders,
                       loop_limit, read_pfm, regions_agreeing, run_chapter, window_command,
                       xvfb_available)
@@ -25,15 +26,6 @@ SIZE = ("--width", "48", "--height", "48")
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 
-def render(tmp_path, prefix: str, name: str, *args, env=None) -> tuple[np.ndarray, dict]:
-    """Renders a PFM headless; returns the linear image and the --json statistics."""
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter(prefix, "--headless", "--out", out, "--json", *map(str, args),
-                         env=env)
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
-
-
 @pytest.fixture(scope="module")
 def pictures(tmp_path_factory):
     """Chapter 12 and the appendix, global and direct, seed 1; the appendix at seed 2."""
@@ -41,9 +33,9 @@ def pictures(tmp_path_factory):
     runs = {}
     for light in ("global", "direct"):
         options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
-        runs["12", light, 1] = render(folder, "12", f"c12_{light}", *options, "--seed", 1)
-        runs["A1", light, 1] = render(folder, "A1", f"a1_{light}", *options, "--seed", 1)
-        runs["A1", light, 2] = render(folder, "A1", f"a1_{light}_2", *options, "--seed", 2)
+        runs["12", light, 1] = render("12", folder, f"c12_{light}", *options, "--seed", 1)
+        runs["A1", light, 1] = render("A1", folder, f"a1_{light}", *options, "--seed", 1)
+        runs["A1", light, 2] = render("A1", folder, f"a1_{light}_2", *options, "--seed", 2)
     return runs
 
 
@@ -84,7 +76,7 @@ def test_a_generator_that_never_moves_on_is_caught(tmp_path, pictures):
     assert end in path.read_text()
     path.write_text(path.read_text().replace(
         end, "    newRandomState = texelFetch(previousRandom, samePixel, 0);\n" + end))
-    stuck, _ = render(tmp_path, "A1", "stuck", *SIZE, "--spp", 64, "--seed", 1,
+    stuck, _ = render("A1", tmp_path, "stuck", *SIZE, "--spp", 64, "--seed", 1,
                       "--shader-dir", shaders)
     theirs = pictures["12", "global", 1][0]
     assert not np.array_equal(stuck, theirs)
@@ -93,8 +85,8 @@ def test_a_generator_that_never_moves_on_is_caught(tmp_path, pictures):
 
 
 def test_splitting_the_passes_changes_nothing(tmp_path):
-    one, _ = render(tmp_path, "A1", "one", "--width", 24, "--height", 24, "--spp", 16)
-    four, _ = render(tmp_path, "A1", "four", "--width", 24, "--height", 24, "--spp", 16,
+    one, _ = render("A1", tmp_path, "one", "--width", 24, "--height", 24, "--spp", 16)
+    four, _ = render("A1", tmp_path, "four", "--width", 24, "--height", 24, "--spp", 16,
                      "--batches", 4)
     assert np.array_equal(one, four)
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import gl_registry
+from path_checks import render_with_stats as render
 from conftest import (ROOT, WINDOW_SAFETY_TIMEOUT, check_hot_reload, copy_shaders,
                       loop_limit, read_pfm, regions_agreeing, run_chapter, window_command,
                       xvfb_available)
@@ -28,15 +29,6 @@ SIZE = ("--width", "48", "--height", "48")
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
 
-def render(tmp_path, prefix: str, name: str, *args, env=None) -> tuple[np.ndarray, dict]:
-    """Renders a PFM headless; returns the linear image and the --json statistics."""
-    out = tmp_path / f"{name}.pfm"
-    result = run_chapter(prefix, "--headless", "--out", out, "--json", *map(str, args),
-                         env=env)
-    assert result.returncode == 0, result.stderr
-    return read_pfm(out)[..., :3], json.loads(result.stdout.strip().splitlines()[-1])
-
-
 # --- The same pictures as chapter 12 --------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -46,12 +38,12 @@ def pictures(tmp_path_factory):
     runs = {}
     for light in ("global", "direct"):
         options = [*SIZE, "--spp", 64] + (["--direct"] if light == "direct" else [])
-        runs["12", light, 1] = render(folder, "12", f"c12_{light}", *options, "--seed", 1)
-        runs["egl", light, 1] = render(folder, "A2", f"egl_{light}", *options, "--seed", 1,
+        runs["12", light, 1] = render("12", folder, f"c12_{light}", *options, "--seed", 1)
+        runs["egl", light, 1] = render("A2", folder, f"egl_{light}", *options, "--seed", 1,
                                        "--backend", "egl", env=GL33)
-        runs["egl", light, 2] = render(folder, "A2", f"egl_{light}_2", *options, "--seed", 2,
+        runs["egl", light, 2] = render("A2", folder, f"egl_{light}_2", *options, "--seed", 2,
                                        "--backend", "egl", env=GL33)
-    runs["osmesa", "global", 1] = render(folder, "A2", "osmesa", *SIZE, "--spp", 64,
+    runs["osmesa", "global", 1] = render("A2", folder, "osmesa", *SIZE, "--spp", 64,
                                          "--seed", 1, "--backend", "osmesa", env=GL33)
     return runs
 
@@ -126,8 +118,8 @@ def triangle_pictures(tmp_path_factory):
     runs = {}
     for name, options in TRIANGLE_SCENES.items():
         options = [folder / o if str(o).endswith(".scene") else o for o in options]
-        runs["12", name] = render(folder, "12", f"c12_{name}", *options, "--seed", 1)
-        runs["A2", name] = render(folder, "A2", f"a1_{name}", *options, "--seed", 1,
+        runs["12", name] = render("12", folder, f"c12_{name}", *options, "--seed", 1)
+        runs["A2", name] = render("A2", folder, f"a1_{name}", *options, "--seed", 1,
                                   env=GL33)
     return runs
 
@@ -155,7 +147,7 @@ def test_flat_shading_normals_would_be_caught(tmp_path, triangle_pictures):
     smooth = "vec3 normal = smoothNormal(normalsOf(triangle), barycentric, geometricNormal);"
     assert smooth in triangle.read_text()
     triangle.write_text(triangle.read_text().replace(smooth, "vec3 normal = geometricNormal;"))
-    flat, _ = render(tmp_path, "A2", "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
+    flat, _ = render("A2", tmp_path, "flat", *TRIANGLE_SCENES["teapot"], "--seed", 1,
                      "--shader-dir", shaders, env=GL33)
     assert not np.array_equal(flat, triangle_pictures["12", "teapot"][0])
 
@@ -167,9 +159,9 @@ def test_random_numbers_are_chapter_12s_file(tmp_path):
 
 
 def test_splitting_the_passes_changes_nothing(tmp_path):
-    one, _ = render(tmp_path, "A2", "one", "--width", 24, "--height", 24, "--spp", 16,
+    one, _ = render("A2", tmp_path, "one", "--width", 24, "--height", 24, "--spp", 16,
                     env=GL33)
-    four, _ = render(tmp_path, "A2", "four", "--width", 24, "--height", 24, "--spp", 16,
+    four, _ = render("A2", tmp_path, "four", "--width", 24, "--height", 24, "--spp", 16,
                      "--batches", 4, env=GL33)
     assert np.array_equal(one, four)
 
