@@ -149,6 +149,8 @@ std::string CommandLine::usage() const {
     if (acceptScene_) out << "  --scene NAME|FILE       scene to render\n";
     if (acceptObj_) out << "  --obj FILE              render this OBJ mesh, framed automatically\n";
     out << "  --backend egl|osmesa|glfw  force a GL context backend\n"
+        << "  --gpu N                 render headless on EGL device N (--verbose lists\n"
+        << "                          them); COURSE_GPU=N does the same\n"
         << "  --json                  print one line of statistics as JSON on stdout\n"
         << "  --verbose               say what happens (backend, GL renderer, timings)\n"
         << "  --frames N              window mode: close after N frames\n"
@@ -198,6 +200,8 @@ bool CommandLine::parse(int argc, const char* const* argv, Options& options) con
             options.objPath = value();
         } else if (arg == "--backend") {
             options.backend = parseBackend(value());
+        } else if (arg == "--gpu") {
+            options.gpu = parseBounded(arg, value(), 0, kMaxGpu);
         } else if (arg == "--json") {
             options.json = true;
         } else if (arg == "--verbose" || arg == "-v") {
@@ -221,8 +225,21 @@ bool CommandLine::parse(int argc, const char* const* argv, Options& options) con
             if (!known) badUsage("unknown option '" + arg + "'");
         }
     }
-    // Without --headless/--window: a window when there is a display to show it on.
-    if (!windowChosen) options.window = options.backend == Backend::Glfw || hasDisplay();
+    const char* gpuVariable = std::getenv("COURSE_GPU");
+    if (options.gpu < 0 && gpuVariable && *gpuVariable) {
+        options.gpu = parseBounded("COURSE_GPU", gpuVariable, 0, kMaxGpu);
+        options.gpuFromEnvironment = true;
+    }
+    const bool gpuAsked = options.gpu >= 0 && !options.gpuFromEnvironment;
+    if (gpuAsked && (options.backend == Backend::OsMesa || options.backend == Backend::Glfw))
+        badUsage("--gpu chooses an EGL device; not with --backend osmesa or glfw");
+    if (gpuAsked && windowChosen && options.window)
+        badUsage("--gpu chooses an EGL device for headless rendering; a window renders on "
+                 "the display's GPU");
+    // Without --headless/--window: a window when there is a display to show it on
+    // (--gpu: headless).
+    if (!windowChosen)
+        options.window = !gpuAsked && (options.backend == Backend::Glfw || hasDisplay());
     if (options.window && options.backend != Backend::Auto && options.backend != Backend::Glfw)
         badUsage("--window needs the glfw backend");
     if (static_cast<long long>(options.width) * options.height > kMaxImagePixels)

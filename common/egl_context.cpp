@@ -2,18 +2,32 @@
 //   EGL_EXT_platform_device   one display per GPU (how NVIDIA's driver renders
 //                             headless); Mesa lists its software renderer here too
 //   EGL_MESA_platform_surfaceless  Mesa with no window system at all (llvmpipe here)
-// We prefer a hardware device, then surfaceless, then any device. No surface is
-// created: chapters render into buffers, and EGL_KHR_surfaceless_context lets a
-// context be current without one (a 1x1 pbuffer is the fallback).
+// We try every hardware device, then surfaceless, then the software devices, and take
+// the first that gives the chapter's OpenGL; --gpu N (or COURSE_GPU=N) takes device N
+// and no other. No surface is created: chapters render into buffers, and
+// EGL_KHR_surfaceless_context lets a context be current without one (a 1x1 pbuffer is
+// the fallback).
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
 #include <cstring>
 #include <vector>
 
+#include "course/context_search.h"
 #include "course/error.h"
 #include "course/gl_context.h"
 #include "course/log.h"
+
+// Names from newer eglext.h files, for older ones.
+#ifndef EGL_RENDERER_EXT
+#define EGL_RENDERER_EXT 0x335F  // EGL_EXT_device_query_name
+#endif
+#ifndef EGL_DRM_DEVICE_FILE_EXT
+#define EGL_DRM_DEVICE_FILE_EXT 0x3233  // EGL_EXT_device_drm
+#endif
+#ifndef EGL_CONTEXT_OPENGL_DEBUG
+#define EGL_CONTEXT_OPENGL_DEBUG 0x31B0  // EGL 1.5
+#endif
 
 namespace course {
 namespace {
@@ -55,12 +69,26 @@ struct Candidate {
     std::string description;
 };
 
-// Displays to try, best first.
-std::vector<Candidate> candidateDisplays() {
+// What a device is called: its renderer's name where EGL_EXT_device_query_name gives
+// one, else its DRM file, else whether it is software.
+std::string deviceName(EGLDeviceEXT device, PFNEGLQUERYDEVICESTRINGEXTPROC queryString,
+                       bool isSoftware) {
+    const char* extensions = queryString(device, EGL_EXTENSIONS);
+    if (hasExtension(extensions, "EGL_EXT_device_query_name"))
+        if (const char* renderer = queryString(device, EGL_RENDERER_EXT)) return renderer;
+    if (hasExtension(extensions, "EGL_EXT_device_drm"))
+        if (const char* file = queryString(device, EGL_DRM_DEVICE_FILE_EXT)) return file;
+    return isSoftware ? "software" : "hardware";
+}
+
+// Displays to try, best first; with `gpu` >= 0, device `gpu` alone.
+std::vector<Candidate> candidateDisplays(int gpu) {
     const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
         eglGetProcAddress("eglGetPlatformDisplayEXT"));
     std::vector<Candidate> hardware, software, surfaceless;
+    std::string deviceList;
+    EGLint count = 0;
 
     if (getPlatformDisplay && hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
         auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
@@ -68,19 +96,32 @@ std::vector<Candidate> candidateDisplays() {
         auto queryDeviceString = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(
             eglGetProcAddress("eglQueryDeviceStringEXT"));
         EGLDeviceEXT devices[16];
-        EGLint count = 0;
-        if (queryDevices && queryDeviceString && queryDevices(16, devices, &count)) {
-            for (EGLint i = 0; i < count; ++i) {
-                const char* extensions = queryDeviceString(devices[i], EGL_EXTENSIONS);
-                bool isSoftware = hasExtension(extensions, "EGL_MESA_device_software");
-                EGLDisplay display =
-                    getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-                if (display == EGL_NO_DISPLAY) continue;
-                std::string name = "egl (device " + std::to_string(i) +
-                                   (isSoftware ? ", software)" : ")");
-                (isSoftware ? software : hardware).push_back({display, name});
-            }
+        if (!queryDevices || !queryDeviceString || !queryDevices(16, devices, &count))
+            count = 0;
+        for (EGLint i = 0; i < count; ++i) {
+            const char* extensions = queryDeviceString(devices[i], EGL_EXTENSIONS);
+            const bool isSoftware = hasExtension(extensions, "EGL_MESA_device_software");
+            const std::string name =
+                "egl device " + std::to_string(i) + " (" +
+                deviceName(devices[i], queryDeviceString, isSoftware) + ")";
+            logInfo("found " + name);
+            deviceList += "\n  " + name;
+            if (gpu >= 0 && i != gpu) continue;
+            EGLDisplay display =
+                getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+            if (display == EGL_NO_DISPLAY) continue;
+            (isSoftware ? software : hardware).push_back({display, name});
         }
+    }
+    if (gpu >= 0) {
+        if (gpu >= count)
+            fail(ExitCode::BadUsage,
+                 "--gpu " + std::to_string(gpu) + ": there is no EGL device " +
+                     std::to_string(gpu) +
+                     (count ? "; this machine's are:" + deviceList
+                            : std::string("; this EGL lists no devices (EGL_EXT_platform_device)")));
+        hardware.insert(hardware.end(), software.begin(), software.end());
+        return hardware;
     }
     if (getPlatformDisplay && hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
         EGLDisplay display =
@@ -145,13 +186,27 @@ std::unique_ptr<GlContext> tryDisplay(const Candidate& candidate, GlVersion requ
 #ifndef NDEBUG
     flags |= EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR;
 #endif
-    const EGLint contextAttributes[] = {
+    // A version and a core profile can be asked for with EGL_KHR_create_context or
+    // EGL 1.5 (which took the same attributes in, but its own for debug contexts).
+    const bool createContextKhr = hasExtension(extensions, "EGL_KHR_create_context");
+    if (!createContextKhr && major * 10 + minor < 15) {
+        reason = candidate.description + ": EGL " + std::to_string(major) + "." +
+                 std::to_string(minor) +
+                 " without EGL_KHR_create_context cannot ask for a core OpenGL version";
+        terminateDisplay(display);
+        return nullptr;
+    }
+    std::vector<EGLint> contextAttributes = {
         EGL_CONTEXT_MAJOR_VERSION, required.major, EGL_CONTEXT_MINOR_VERSION,
-        required.minor, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_CONTEXT_FLAGS_KHR, flags, EGL_NONE};
+        required.minor, EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
+    if (createContextKhr)
+        contextAttributes.insert(contextAttributes.end(), {EGL_CONTEXT_FLAGS_KHR, flags});
+    else if (flags)
+        contextAttributes.insert(contextAttributes.end(), {EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE});
+    contextAttributes.push_back(EGL_NONE);
     EGLConfig contextConfig = configCount ? config : EGL_NO_CONFIG_KHR;
     EGLContext context =
-        eglCreateContext(display, contextConfig, EGL_NO_CONTEXT, contextAttributes);
+        eglCreateContext(display, contextConfig, EGL_NO_CONTEXT, contextAttributes.data());
     if (context == EGL_NO_CONTEXT) {
         // Ask for any version, only to tell the user which one there is.
         const EGLint anyVersion[] = {EGL_NONE};
@@ -194,14 +249,14 @@ std::unique_ptr<GlContext> tryDisplay(const Candidate& candidate, GlVersion requ
 
 bool eglBuiltIn() { return true; }
 
-std::unique_ptr<GlContext> createEglContext(GlVersion required) {
+std::unique_ptr<GlContext> createEglContext(GlVersion required, int gpu) {
+    std::vector<ContextCandidate> candidates;
+    for (const Candidate& display : candidateDisplays(gpu))
+        candidates.push_back({display.description, [display, required](std::string& reason) {
+                                  return tryDisplay(display, required, reason);
+                              }});
     std::string reasons;
-    for (const Candidate& candidate : candidateDisplays()) {
-        std::string reason;
-        if (auto context = tryDisplay(candidate, required, reason)) return context;
-        logInfo(reason);
-        reasons += "\n  " + reason;
-    }
+    if (auto context = firstWorkingContext(candidates, reasons)) return context;
     fail(ExitCode::GlProblem,
          "EGL: no headless OpenGL display could be opened" +
              (reasons.empty() ? std::string(" (no EGL device or surfaceless platform)")

@@ -7,7 +7,7 @@ namespace course {
 
 bool eglBuiltIn() { return false; }
 
-std::unique_ptr<GlContext> createEglContext(GlVersion) {
+std::unique_ptr<GlContext> createEglContext(GlVersion, int) {
     fail(ExitCode::GlProblem,
          "EGL: this build has no EGL (configured with COURSE_WITH_EGL=OFF, the default "
          "on macOS, which has no EGL); use --backend osmesa or --backend glfw, or leave "

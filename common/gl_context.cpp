@@ -74,7 +74,7 @@ std::unique_ptr<GlContext> createGlContext(const Options& options, GlVersion req
                                            const std::string& windowTitle) {
     if (options.window) return createGlfwContext(required, options, windowTitle);
     switch (options.backend) {
-        case Backend::Egl: return createEglContext(required);
+        case Backend::Egl: return createEglContext(required, options.gpu);
         case Backend::OsMesa: return createOsMesaContext(required);
         case Backend::Glfw:  // --backend glfw --headless: a window that is never shown
             return createGlfwContext(required, options, windowTitle, /*visible=*/false);
@@ -82,6 +82,9 @@ std::unique_ptr<GlContext> createGlContext(const Options& options, GlVersion req
     }
     // Headless by default: EGL (a GPU, or Mesa without a display); OSMesa if EGL fails
     // for a reason other than an old GL version.
+    // --gpu N: that device or a clear failure, never another renderer in its place.
+    if (options.gpu >= 0 && (eglBuiltIn() || !options.gpuFromEnvironment))
+        return createEglContext(required, options.gpu);
     if (eglBuiltIn()) {
         try {
             return createEglContext(required);

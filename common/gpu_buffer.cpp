@@ -86,7 +86,7 @@ BufferTexture::BufferTexture(const GpuBuffer& buffer, const std::string& what) {
                                       std::to_string(maxTexels) + " (GL_MAX_TEXTURE_BUFFER_SIZE)");
     glGenTextures(1, &id_);
     glBindTexture(GL_TEXTURE_BUFFER, id_);
-    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer.id());
+    glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32UI, buffer.id());
     glBindTexture(GL_TEXTURE_BUFFER, 0);
 }
 

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "course/display.h"
+#include "course/gpu_limits.h"
 #include "course/gpu_watchdog.h"
 #include "course/render_progress.h"
 #include "course/image_file.h"
@@ -34,6 +35,14 @@ Session::Session(const Options& options, const ChapterPaths& chapter, GlVersion 
     stats_.set("backend", context_->backendName());
     stats_.set("renderer", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
     stats_.set("gl_version", reinterpret_cast<const char*>(glGetString(GL_VERSION)));
+    if (GLAD_GL_VERSION_4_3) {  // what a GPU report wants to know (tools/gpu_check.sh)
+        stats_.set("max_compute_storage_blocks",
+                   double(glLimit(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS,
+                                  "GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS")));
+        stats_.set("max_compute_texture_units",
+                   double(glLimit(GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS,
+                                  "GL_MAX_COMPUTE_TEXTURE_IMAGE_UNITS")));
+    }
     stats_.set("width", options_.width);
     stats_.set("height", options_.height);
 }

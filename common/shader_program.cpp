@@ -1,12 +1,14 @@
 #include "course/shader_program.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <regex>
 #include <utility>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include "course/error.h"
+#include "course/gpu_limits.h"
 #include "course/gpu_watchdog.h"
 #include "course/shader_source.h"
 
@@ -41,7 +43,11 @@ GLuint compileStage(GLenum type, const std::string& text,
     return shader;
 }
 
-GLuint linkProgram(const std::vector<GLuint>& shaders, const std::string& label) {
+// Links the compiled `shaders` (of `stages`: type and source text), then checks what
+// the program uses against this GL's limits (course/gpu_limits.h).
+GLuint linkProgram(const std::vector<GLuint>& shaders,
+                   const std::vector<std::pair<GLenum, std::string>>& stages,
+                   const std::string& label) {
     GLuint program = glCreateProgram();
     for (GLuint shader : shaders) glAttachShader(program, shader);
     glLinkProgram(program);
@@ -51,9 +57,37 @@ GLuint linkProgram(const std::vector<GLuint>& shaders, const std::string& label)
     if (!ok) {
         std::string log = infoLog(program, true);
         glDeleteProgram(program);
-        fail(ExitCode::GlProblem, label + ": shader link failed:\n" + log);
+        // A driver's words for a limit it enforces vary; the course's come first.
+        const std::string why = explainLinkFailure(stages);
+        fail(ExitCode::GlProblem, label + ": shader link failed:\n" +
+                                      (why.empty() ? log : why + "the driver says:\n" + log));
+    }
+    std::vector<GLenum> types;
+    for (const auto& stage : stages) types.push_back(stage.first);
+    try {
+        checkProgramLimits(program, types, label);
+    } catch (...) {
+        glDeleteProgram(program);
+        throw;
     }
     return program;
+}
+
+// COURSE_SHADER_DUMP=DIR: each stage's text as the GL gets it (every #include
+// expanded, generated files in), as DIR/NN-name, for a reference compiler
+// (glslangValidator, tests/python/chapters/test_glslang.py) or a driver's bug report.
+void dumpForReview(const std::string& shownPath, const std::string& text) {
+    const char* folder = std::getenv("COURSE_SHADER_DUMP");
+    if (!folder || !*folder) return;
+    static int dumped = 0;
+    char number[16];
+    std::snprintf(number, sizeof number, "%03d-", ++dumped);
+    const std::string name = shownPath.substr(shownPath.find_last_of('/') + 1);
+    const std::string path = std::string(folder) + "/" + number + name;
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) fail(ExitCode::BadUsage, "COURSE_SHADER_DUMP: cannot write " + path);
+    std::fwrite(text.data(), 1, text.size(), file);
+    std::fclose(file);
 }
 
 }  // namespace
@@ -62,7 +96,7 @@ GLuint buildProgramFromText(const std::vector<std::pair<GLenum, std::string>>& s
                             const std::string& label) {
     std::vector<GLuint> shaders;
     for (const auto& [type, text] : stages) shaders.push_back(compileStage(type, text, {label}));
-    return linkProgram(shaders, label);
+    return linkProgram(shaders, stages, label);
 }
 
 namespace {
@@ -115,6 +149,7 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
 
 GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead, std::string& sources) const {
     std::vector<GLuint> shaders;
+    std::vector<std::pair<GLenum, std::string>> texts;
     std::string label;
     sources.clear();
     try {
@@ -122,6 +157,8 @@ GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead, std::string& sou
             ShaderSource source = loadShaderSource(shaderDir_, stage.fileName, &filesRead,
                                                    generated_);
             sources += source.text;
+            texts.emplace_back(stage.type, source.text);
+            dumpForReview(source.shownPaths.front(), source.text);
             label += (label.empty() ? "" : " + ") + source.shownPaths.front();
             shaders.push_back(compileStage(stage.type, source.text, source.shownPaths));
         }
@@ -129,7 +166,7 @@ GLuint ShaderProgram::build(std::vector<ShaderFile>& filesRead, std::string& sou
         for (GLuint shader : shaders) glDeleteShader(shader);
         throw;
     }
-    return linkProgram(shaders, label);
+    return linkProgram(shaders, texts, label);
 }
 
 std::vector<std::string> ShaderProgram::watchedFiles() const {
@@ -300,9 +337,11 @@ void ShaderProgram::dispatchCovering(int invocationsX, int invocationsY,
                                      int invocationsZ) const {
     glm::ivec3 group = workGroupSize();
     auto groupsFor = [](int invocations, int size) { return (invocations + size - 1) / size; };
+    const int groups[3] = {groupsFor(invocationsX, group.x), groupsFor(invocationsY, group.y),
+                           groupsFor(invocationsZ, group.z)};
+    checkWorkGroupCount(groups, name());
     use();
-    glDispatchCompute(groupsFor(invocationsX, group.x), groupsFor(invocationsY, group.y),
-                      groupsFor(invocationsZ, group.z));
+    glDispatchCompute(groups[0], groups[1], groups[2]);
     gpuStepQueued();  // the watchdog's sign of progress
 }
 

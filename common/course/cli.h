@@ -23,6 +23,8 @@ struct Options {
     std::string scene;          // --scene NAME or FILE
     std::string objPath;        // --obj FILE (chapters that load meshes)
     Backend backend = Backend::Auto;
+    int gpu = -1;               // --gpu N, or COURSE_GPU=N: the EGL device to render on
+    bool gpuFromEnvironment = false;  // COURSE_GPU: used where EGL is, ignored elsewhere
     bool json = false;          // --json: one line of stats on stdout
     bool verbose = false;       // --verbose
     bool probeLoopLimit = false;  // --probe-loop-limit: measure it, print it, stop
@@ -87,5 +89,6 @@ private:
 constexpr int kMaxImageSide = 16384;
 constexpr long long kMaxImagePixels = 4096LL * 4096LL;
 constexpr int kMaxSpp = 1 << 20;
+constexpr int kMaxGpu = 15;  // EGL lists at most 16 devices here (egl_context.cpp)
 
 }  // namespace course

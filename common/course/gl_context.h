@@ -46,7 +46,8 @@ void loadGlAndCheckVersion(GlProcLoader loader, GlVersion required,
                              const std::string& backend);
 
 bool eglBuiltIn();  // false in builds without EGL (macOS): egl_unavailable.cpp
-std::unique_ptr<GlContext> createEglContext(GlVersion required);
+// gpu >= 0: EGL device `gpu` and no other (--gpu); -1: the first that works.
+std::unique_ptr<GlContext> createEglContext(GlVersion required, int gpu = -1);
 std::unique_ptr<GlContext> createOsMesaContext(GlVersion required);
 // visible = false: a window that is never shown, only to hold a context (headless
 // where there is neither EGL nor OSMesa, as on macOS).

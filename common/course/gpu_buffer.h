@@ -48,11 +48,13 @@ private:
     size_t bytes_ = 0;
 };
 
-// A buffer seen as a row of texels by a `samplerBuffer` (texelFetch): a buffer texture.
+// A buffer seen as a row of texels by a `usamplerBuffer` (texelFetch): a buffer texture.
 // It views the buffer's own bytes, so the same buffer can be a storage buffer too.
-// RGBA32F: 16 bytes a texel, so a std430 struct whose size is a multiple of 16 is a
-// whole number of texels (uints inside come back through floatBitsToUint). More
-// texels than the GL's GL_MAX_TEXTURE_BUFFER_SIZE is exit code 4, naming `what`.
+// RGBA32UI: 16 bytes a texel, four uints with the bytes' bits as they are, so a std430
+// struct whose size is a multiple of 16 is a whole number of texels; its floats come
+// back through uintBitsToFloat. (Through an RGBA32F view a driver may flush a uint
+// that looks like a denormal float to zero, or change a NaN's bits.) More texels than
+// the GL's GL_MAX_TEXTURE_BUFFER_SIZE is exit code 4, naming `what`.
 class BufferTexture {
 public:
     BufferTexture() = default;
@@ -63,7 +65,7 @@ public:
     BufferTexture(const BufferTexture&) = delete;
     BufferTexture& operator=(const BufferTexture&) = delete;
 
-    // Makes it the texture of `layout(binding = unit) uniform samplerBuffer`.
+    // Makes it the texture of `layout(binding = unit) uniform usamplerBuffer`.
     void bind(GLuint unit) const;
 
 private:

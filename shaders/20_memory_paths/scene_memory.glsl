@@ -11,10 +11,12 @@
 //   MEMORY_TEXTURE    buffer textures: the same bytes, read with texelFetch
 //   MEMORY_CONSTANTS  constant arrays written into the shader itself (scene_code.glsl)
 
-// A buffer texture hands back 4 floats a texel; a uint in the struct comes back as the
-// float with its bits (floatBitsToUint undoes that).
-uvec4 bitsAt(samplerBuffer texels, int index) {
-    return floatBitsToUint(texelFetch(texels, index));
+// A buffer texture of RGBA32UI texels hands back 4 uints a texel: the bytes as the
+// host wrote them. A float in the struct comes back through uintBitsToFloat. (Read as
+// RGBA32F, a uint that looks like a denormal float could be flushed to zero, or a NaN's
+// bits changed, on the way.)
+vec4 floatsAt(usamplerBuffer texels, int index) {
+    return uintBitsToFloat(texelFetch(texels, index));
 }
 
 // --8<-- [start:small]
@@ -51,33 +53,33 @@ Material materialAt(uint i) { return uniformMaterials[i]; }
 Emitter emitterAt(uint i) { return uniformEmitters[i]; }
 
 #elif SCENE_MEMORY == MEMORY_TEXTURE
-layout(binding = SPHERES_UNIT) uniform samplerBuffer sphereTexels;      // 2 texels each
-layout(binding = QUADS_UNIT) uniform samplerBuffer quadTexels;          // 3 texels each
-layout(binding = MATERIALS_UNIT) uniform samplerBuffer materialTexels;  // 4 texels each
-layout(binding = EMITTERS_UNIT) uniform samplerBuffer emitterTexels;    // 1 texel each
+layout(binding = SPHERES_UNIT) uniform usamplerBuffer sphereTexels;      // 2 texels each
+layout(binding = QUADS_UNIT) uniform usamplerBuffer quadTexels;          // 3 texels each
+layout(binding = MATERIALS_UNIT) uniform usamplerBuffer materialTexels;  // 4 texels each
+layout(binding = EMITTERS_UNIT) uniform usamplerBuffer emitterTexels;    // 1 texel each
 Sphere sphereAt(int i) {
-    vec4 a = texelFetch(sphereTexels, 2 * i);
-    uvec4 b = bitsAt(sphereTexels, 2 * i + 1);
+    vec4 a = floatsAt(sphereTexels, 2 * i);
+    uvec4 b = texelFetch(sphereTexels, 2 * i + 1);
     return Sphere(a.xyz, a.w, b.x, b.y, 0u, 0u);
 }
 Quad quadAt(int i) {
     // BEGIN SOLUTION quad i's three texels: origin and material, edge1 and emitter, edge2
-    vec4 a = texelFetch(quadTexels, 3 * i), b = texelFetch(quadTexels, 3 * i + 1);
-    vec4 c = texelFetch(quadTexels, 3 * i + 2);
-    return Quad(a.xyz, floatBitsToUint(a.w), b.xyz, floatBitsToUint(b.w), c.xyz, 0u);
+    uvec4 a = texelFetch(quadTexels, 3 * i), b = texelFetch(quadTexels, 3 * i + 1);
+    vec3 c = floatsAt(quadTexels, 3 * i + 2).xyz;
+    return Quad(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, c, 0u);
     // STUB: return Quad(vec3(0.0), 0u, vec3(0.0), NO_EMITTER, vec3(0.0), 0u);  // nothing
     // END SOLUTION
 }
 Material materialAt(uint i) {
     int at = 4 * int(i);
-    vec4 a = texelFetch(materialTexels, at), b = texelFetch(materialTexels, at + 1);
-    vec4 c = texelFetch(materialTexels, at + 2), d = texelFetch(materialTexels, at + 3);
-    return Material(a.xyz, floatBitsToUint(a.w), b.xyz, b.w, c.xyz, c.w, d.xyz,
-                    floatBitsToInt(d.w));
+    uvec4 a = texelFetch(materialTexels, at), d = texelFetch(materialTexels, at + 3);
+    vec4 b = floatsAt(materialTexels, at + 1), c = floatsAt(materialTexels, at + 2);
+    return Material(uintBitsToFloat(a.xyz), a.w, b.xyz, b.w, c.xyz, c.w,
+                    uintBitsToFloat(d.xyz), int(d.w));
 }
 Emitter emitterAt(uint i) {
-    vec4 a = texelFetch(emitterTexels, int(i));
-    return Emitter(floatBitsToUint(a.x), floatBitsToUint(a.y), a.z, a.w);
+    uvec4 a = texelFetch(emitterTexels, int(i));
+    return Emitter(a.x, a.y, uintBitsToFloat(a.z), uintBitsToFloat(a.w));
 }
 
 #else  // MEMORY_CONSTANTS: SCENE_SPHERES, ... are constant arrays in scene_code.glsl
@@ -103,25 +105,25 @@ vec3 leafCornerAt(uint i) { return positions[triangles[i / 3u].corners[i % 3u]].
 vec3 positionAt(uint i) { return positions[i].xyz; }
 BvhNode bvhNodeAt(uint i) { return bvhNodes[i]; }
 #else
-layout(binding = TRIANGLES_UNIT) uniform samplerBuffer triangleTexels;  // 3 texels each
-layout(binding = POSITIONS_UNIT) uniform samplerBuffer positionTexels;  // 1 texel each
-layout(binding = BVH_NODES_UNIT) uniform samplerBuffer bvhNodeTexels;   // 4 texels each
-layout(binding = LEAF_CORNERS_UNIT) uniform samplerBuffer leafCornerTexels;  // 3 each
+layout(binding = TRIANGLES_UNIT) uniform usamplerBuffer triangleTexels;  // 3 texels each
+layout(binding = POSITIONS_UNIT) uniform usamplerBuffer positionTexels;  // 1 texel each
+layout(binding = BVH_NODES_UNIT) uniform usamplerBuffer bvhNodeTexels;   // 4 texels each
+layout(binding = LEAF_CORNERS_UNIT) uniform usamplerBuffer leafCornerTexels;  // 3 each
 Triangle triangleAt(uint i) {
     int at = 3 * int(i);
-    uvec4 a = bitsAt(triangleTexels, at), b = bitsAt(triangleTexels, at + 1);
-    uvec4 c = bitsAt(triangleTexels, at + 2);
+    uvec4 a = texelFetch(triangleTexels, at), b = texelFetch(triangleTexels, at + 1);
+    uvec4 c = texelFetch(triangleTexels, at + 2);
     return Triangle(a.xyz, a.w, b.xyz, b.w, c.xyz, c.w);
 }
-vec3 positionAt(uint i) { return texelFetch(positionTexels, int(i)).xyz; }
-vec3 leafCornerAt(uint i) { return texelFetch(leafCornerTexels, int(i)).xyz; }
+vec3 positionAt(uint i) { return floatsAt(positionTexels, int(i)).xyz; }
+vec3 leafCornerAt(uint i) { return floatsAt(leafCornerTexels, int(i)).xyz; }
 BvhNode bvhNodeAt(uint i) {
     // BEGIN SOLUTION node i's four texels: each child's box corners, index and count
     int at = 4 * int(i);
-    vec4 a = texelFetch(bvhNodeTexels, at), b = texelFetch(bvhNodeTexels, at + 1);
-    vec4 c = texelFetch(bvhNodeTexels, at + 2), d = texelFetch(bvhNodeTexels, at + 3);
-    return BvhNode(a.xyz, floatBitsToUint(a.w), b.xyz, floatBitsToUint(b.w),
-                   c.xyz, floatBitsToUint(c.w), d.xyz, floatBitsToUint(d.w));
+    uvec4 a = texelFetch(bvhNodeTexels, at), b = texelFetch(bvhNodeTexels, at + 1);
+    uvec4 c = texelFetch(bvhNodeTexels, at + 2), d = texelFetch(bvhNodeTexels, at + 3);
+    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
+                   uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz), d.w);
     // STUB: return BvhNode(vec3(1.0), 0u, vec3(-1.0), 0u, vec3(1.0), 0u, vec3(-1.0), 0u);
     // END SOLUTION
 }
