@@ -51,6 +51,20 @@ def test_options(parser: argparse.ArgumentParser):
                         "the pages (the catalogues' scores, the numbers pages mark)")
 
 
+def gpu_check_command(args):
+    from course_tools.cli import gpu_check  # the bench helpers only when asked for
+    gpu_check.cmd_gpu_check(args)
+
+
+def gpu_check_options(parser: argparse.ArgumentParser):
+    parser.add_argument("--gpu", type=int, help="the EGL device to check (default: the "
+                        "first that works, GPUs first; the report lists them)")
+    parser.add_argument("--repeat", type=int, default=3,
+                        help="timed runs of each figure; the median is reported (3)")
+    parser.add_argument("--update-book", action="store_true",
+                        help="write this device's row into book/docs/benchmarks.md")
+
+
 def fuzz_options(parser: argparse.ArgumentParser):
     parser.add_argument("target", nargs="?", help="only targets whose name contains this")
     parser.add_argument("--seconds", type=int, default=60, help="per target (default 60)")
@@ -159,6 +173,13 @@ VERBS = [
          "runs, names the machine (CPU, cores, Mesa, LLVM, Mitsuba) and warns when it was "
          "busy (1-minute load above 0.3 per core). Prints the tables and writes "
          "build/bench/*.json; the book's pages change only with --update-book."),
+    Verb("gpu-check", "on a machine with a GPU: build, every chapter's image checks and the "
+         "speed figures on its EGL device, one report, in 10 minutes", gpu_check_options,
+         lambda args: gpu_check_command(args), "test",
+         "Builds, lists the EGL devices and what the chosen one allows, runs every "
+         "chapter's image checks with COURSE_GPU set, measures every chapter's samples per "
+         "second, the BVH at a million triangles and the megakernel against the wavefront, "
+         "and writes build/gpu-check/report.md (tools/gpu_check.sh runs it)."),
     Verb("release", "write a student starter for a chapter", release_options, commands.cmd_release,
          "book", "Copies the checkpoint with every BEGIN/END SOLUTION block replaced by its "
          "TODO hint and STUB lines, with the chapter's page rendered against that code "
