@@ -4,6 +4,7 @@
 // before their line, the camera, an emitter) is checked at the end.
 #include "course/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -159,9 +160,10 @@ public:
         const SceneSupport& reads = support_;
         if (!reads.media.read) {
             size_t first = scene_.media.empty() ? 0 : scene_.media.front().line;
+            auto earlier = [&first](size_t line) { first = first ? std::min(first, line) : line; };
             for (const SceneMaterial& material : scene_.materials)
-                if (material.kind == MaterialKind::Boundary && (!first || material.line < first))
-                    first = material.line;
+                if (material.kind == MaterialKind::Boundary) earlier(material.line);
+            for (const MediumUse& use : mediumUses_) earlier(use.line);
             if (first)
                 failAt(first, "this program renders no participating media (medium "
                               "statements, boundary materials)" +

@@ -29,10 +29,16 @@ struct FreeFlight {
 };
 
 FreeFlight sampleFreeFlight(Medium medium, float surfaceDistance, vec2 u) {
+    FreeFlight flight;
+    if (medium.sigmaS == vec3(0.0)) {  // it only absorbs: no scattering to sample, and
+        flight.scattered = false;      // the transmittance is the weight (tinted glass)
+        flight.distance = surfaceDistance;
+        flight.weight = transmittanceThrough(medium, surfaceDistance);
+        return flight;
+    }
     vec3 extinction = sigmaT(medium);
     int channel = min(int(u.x * 3.0), 2);
     float t = extinction[channel] > 0.0 ? -log(1.0 - u.y) / extinction[channel] : FOREVER;
-    FreeFlight flight;
     flight.scattered = t < surfaceDistance;
     flight.distance = min(t, surfaceDistance);
     vec3 transmittance = transmittanceThrough(medium, flight.distance);
