@@ -36,6 +36,7 @@ FreeFlight sampleFreeFlight(Medium medium, float surfaceDistance, vec2 u) {
         flight.weight = transmittanceThrough(medium, surfaceDistance);
         return flight;
     }
+    // BEGIN SOLUTION a channel, a distance from its density; the weight over the mean density
     vec3 extinction = sigmaT(medium);
     int channel = min(int(u.x * 3.0), 2);
     float t = extinction[channel] > 0.0 ? -log(1.0 - u.y) / extinction[channel] : FOREVER;
@@ -47,6 +48,10 @@ FreeFlight sampleFreeFlight(Medium medium, float surfaceDistance, vec2 u) {
     float pdf = (density.r + density.g + density.b) / 3.0;
     vec3 kept = flight.scattered ? medium.sigmaS * transmittance : transmittance;
     flight.weight = pdf > 0.0 ? kept / pdf : vec3(0.0);
+    // STUB: flight.scattered = false;  // the medium is seen through, as if empty
+    // STUB: flight.distance = surfaceDistance;
+    // STUB: flight.weight = vec3(1.0);
+    // END SOLUTION
     return flight;
 }
 // --8<-- [end:free_flight]
@@ -65,12 +70,15 @@ float henyeyGreenstein(float cosTheta, float g) {
 // phase function over its density is 1: the throughput is unchanged.
 vec3 sampleHenyeyGreenstein(vec3 travelling, float g, vec2 u) {
     float cosTheta;
+    // BEGIN SOLUTION the inverse of the CDF in cos(theta); uniform near g = 0
     if (abs(g) < 1e-3) {
         cosTheta = 1.0 - 2.0 * u.x;  // near 0: uniform over the sphere
     } else {
         float s = (1.0 - g * g) / (1.0 + g - 2.0 * g * u.x);
         cosTheta = (1.0 + g * g - s * s) / (2.0 * g);
     }
+    // STUB: cosTheta = 1.0 - 2.0 * u.x;  // uniform over the sphere, whatever g
+    // END SOLUTION
     float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
     float angle = 2.0 * PI * u.y;
     return basisAround(travelling) *
