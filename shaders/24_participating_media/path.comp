@@ -67,6 +67,10 @@ vec3 shadowTransmittance(Ray ray, float distance, uint medium, inout uint rays) 
         return anyHit(ray, 0.0, distance) ? vec3(0.0) : vec3(1.0);
     }
     vec3 kept = vec3(1.0);
+    // Where the ray stops (short of the light): each crossing moves the origin off the
+    // line a little, so the distance left is measured to this point again.
+    bool forever = distance >= FOREVER;
+    vec3 end = ray.origin + distance * ray.direction;
     for (int crossing = 0; crossing <= MAX_BOUNDARY_CROSSINGS; ++crossing) {
         Hit hit;
         rays += 1u;
@@ -76,9 +80,10 @@ vec3 shadowTransmittance(Ray ray, float distance, uint medium, inout uint rays) 
         if (!blocked) return kept;
         if (materials[hit.material].kind != MATERIAL_BOUNDARY) return vec3(0.0);
         medium = hit.front ? hit.interior : cameraMedium;
-        distance -= hit.t;
         ray.origin = offsetFromSurface(hit.position,
                                        hit.front ? -hit.geometricNormal : hit.geometricNormal);
+        distance = forever ? FOREVER : dot(end - ray.origin, ray.direction);
+        if (distance <= 0.0) return kept;
     }
     return vec3(0.0);  // more boundaries than a shadow ray crosses
 }

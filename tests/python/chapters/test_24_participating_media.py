@@ -218,6 +218,24 @@ def test_light_through_an_absorbing_ball_follows_beer_lambert(tmp_path):
     assert np.allclose(image.mean(axis=(0, 1)), expected.mean(axis=(0, 1)), rtol=0.002)
 
 
+def test_an_empty_boundary_changes_nothing(tmp_path):
+    """A boundary around a medium of nothing: the room lit through it exactly as without
+    it (a shadow ray that crossed it once stopped on the light itself: a sixth of the
+    floor's light under the ball was lost)."""
+    text = (SCENES / "cornell_smoke.scene").read_text()
+    empty = text.replace("sigma_a 0.3 0.3 0.3 sigma_s 1.5 4 9 g 0.5", "sigma_a 0 0 0 sigma_s 0 0 0")
+    assert empty != text
+    (tmp_path / "empty.scene").write_text(empty)
+    (tmp_path / "none.scene").write_text(
+        "\n".join(line for line in text.splitlines()
+                  if not line.startswith(("sphere", "medium", "material edge"))) + "\n")
+    args = ("--width", 32, "--height", 32, "--spp", 1024, "--direct")
+    through = path_trace(tmp_path, "empty", "--scene", tmp_path / "empty.scene", *args)
+    alone = path_trace(tmp_path, "none", "--scene", tmp_path / "none.scene", *args)
+    difference, error = mean_and_error((through - alone).reshape(-1, 3))
+    assert np.all(np.abs(difference) < SIGMAS * error + 1e-4), (difference, error)
+
+
 # --- The white furnace ---------------------------------------------------------------------
 
 def furnace_scene(folder, g, sigma_s):
