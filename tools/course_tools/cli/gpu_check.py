@@ -184,7 +184,7 @@ def markdown(report: dict) -> str:
 
 def page_row(report: dict) -> str:
     d, b = report["device"], report["benches"]
-    newest = list(b["chapters"])[-1] if b["chapters"] else None
+    newest = [name for name in b["chapters"] if name[:2].isdigit()][-1]  # not an appendix
     cornell = b["chapters"].get(find_chapter("12"), {}).get("samples_per_second", {})
     return (f"| `{d['renderer']}` | {report['machine']['cpu']} "
             f"({report['machine']['vectors']}) | {report['date'][:10]} | "
