@@ -78,7 +78,8 @@ def llvmpipe_lanes(gl_renderer: str) -> int | None:
 
 def mitsuba_lanes(vectors: str) -> int:
     """The lanes of Mitsuba's LLVM backend: Dr.Jit's core chooses its vector width from
-    the CPU, 16 float32 lanes with AVX-512, 8 with AVX or AVX2, 4 otherwise."""
+    the CPU's features, 16 float32 lanes with AVX-512 (its VL part, which every AVX-512
+    CPU since Skylake has), 8 with AVX or AVX2, 4 with SSE4.2 (or NEON)."""
     return 16 if vectors == "AVX-512" else 8 if vectors in ("AVX2", "AVX") else 4
 
 
