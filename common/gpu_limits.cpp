@@ -94,6 +94,7 @@ bool isImage(GLenum type) {
 std::vector<GLint> resourceProperties(GLuint program, GLenum interface, GLuint index,
                                       const std::vector<GLenum>& properties) {
     std::vector<GLint> values(properties.size(), 0);
+    if (!GLAD_GL_VERSION_4_3) return values;  // no program interface query before 4.3
     glGetProgramResourceiv(program, interface, index, GLsizei(properties.size()),
                            properties.data(), GLsizei(values.size()), nullptr, values.data());
     return values;
@@ -115,6 +116,7 @@ GLenum stageUsing(const std::vector<GLenum>& stages, const std::vector<GLint>& v
 
 GLint activeResources(GLuint program, GLenum interface) {
     GLint count = 0;
+    if (!GLAD_GL_VERSION_4_3) return count;
     glGetProgramInterfaceiv(program, interface, GL_ACTIVE_RESOURCES, &count);
     return count;
 }

@@ -17,6 +17,7 @@
 #include "course/gpu_buffer.h"
 #include "course/gpu_limits.h"
 #include "course/shader_program.h"
+#include "scratch_folder.h"
 
 namespace fs = std::filesystem;
 
@@ -93,11 +94,7 @@ protected:
         course::Options options;
         options.backend = course::Backend::Egl;
         context = course::createGlContext(options, {4, 3}, "test");
-        folder = fs::temp_directory_path() /
-                 ("course_limits_test_" +
-                  std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        folder = scratchFolder("course_limits_test_");
     }
     void TearDown() override {
         unsetenv("COURSE_GL_LIMIT_MAX_COMPUTE_SHADER_STORAGE_BLOCKS");

@@ -128,6 +128,22 @@ def test_the_machine_is_named_with_its_widest_vector_extension():
     assert "Some CPU (2 cores)" in bench_common.machine_words(MACHINE)  # an older report
 
 
+def test_the_machine_names_both_renderers_lanes_and_embree():
+    # llvmpipe's lanes come from its renderer string; Mitsuba's from the CPU, as Dr.Jit
+    # chooses them: the ratio on an AVX-512 machine is llvmpipe's 8 against 16.
+    assert bench_common.llvmpipe_lanes("llvmpipe (LLVM 15.0.6, 256 bits)") == 8
+    assert bench_common.llvmpipe_lanes("llvmpipe (LLVM 19.1.7, 512 bits)") == 16
+    assert bench_common.llvmpipe_lanes("NVIDIA GeForce RTX 4070/PCIe/SSE2") is None
+    assert [bench_common.mitsuba_lanes(v) for v in ("AVX-512", "AVX2", "NEON")] == [16, 8, 4]
+    words = bench_common.machine_words({**MACHINE, "vectors": "AVX-512", "mesa": "22.3.6",
+                                        "llvmpipe_lanes": 8, "mitsuba": "3.9.1",
+                                        "mitsuba_lanes": 16, "mitsuba_embree": True})
+    assert words.endswith(", 8 lanes; Mitsuba's LLVM backend 16 lanes, with Embree"), words
+    machine = bench_common.describe_machine(
+        {"renderer": "llvmpipe (LLVM 15.0.6, 256 bits)", "gl_version": "4.5 Mesa 22.3.6"})
+    assert machine["llvmpipe_lanes"] == 8 and machine["mitsuba_embree"] in (True, False, None)
+
+
 def test_a_page_keeps_a_table_per_kind_of_cpu(tmp_path):
     # An Intel with AVX-512 and an AMD with AVX2 give other ratios: a bench replaces the
     # table of the kind it ran on and keeps the others, and an older table without a

@@ -14,7 +14,7 @@ import pytest
 from conftest import ROOT
 
 from course_tools.editions import classroom
-from course_tools.grading import grading_specs
+from course_tools.grading import grader, grading_specs
 import grading_variants
 
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
@@ -53,6 +53,23 @@ GRADED = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.name[:2] in
 # catalogue of variants (test_grading_statistics.py: "the solution as it is" must score
 # full marks there): the same grading, done once.
 WITH_CATALOGUE = set(grading_variants.CATALOGUE)
+
+
+def test_references_a_changed_solution_made_are_made_again():
+    # build/grading/NN's files name only their arguments. After a scene file or the
+    # solution changes (reference_maker), the old references must not stand: a correct
+    # submission, run on the new scene, would fail against them.
+    chapter, build = "02_first_pixels", ROOT / "build"
+    grader.prepare_references(ROOT, build, chapter)
+    folder = build / "grading" / chapter
+    references = sorted(folder.glob("*.png")) + sorted(folder.glob("*.pfm"))
+    assert references, "chapter 02 has reference images"
+    made = references[0].read_bytes()
+    (folder / "made-by").write_text("a solution that has changed since")
+    references[0].write_bytes(b"a picture of the old solution's")
+    grader.prepare_references(ROOT, build, chapter)
+    assert references[0].read_bytes() == made
+    assert (folder / "made-by").read_text() == grader.reference_maker(ROOT, build, chapter)
 
 
 @pytest.mark.parametrize("chapter", GRADED)

@@ -69,19 +69,45 @@ def mitsuba_version() -> str | None:
     return mitsuba.__version__
 
 
+def llvmpipe_lanes(gl_renderer: str) -> int | None:
+    """'llvmpipe (LLVM 15.0.6, 256 bits)' -> 8: the float32 lanes llvmpipe runs side by
+    side (LP_NATIVE_VECTOR_WIDTH); None for a GPU's renderer."""
+    match = re.search(r"llvmpipe .*?(\d+) bits", gl_renderer)
+    return int(match.group(1)) // 32 if match else None
+
+
+def mitsuba_lanes(vectors: str) -> int:
+    """The lanes of Mitsuba's LLVM backend: Dr.Jit's core chooses its vector width from
+    the CPU's features, 16 float32 lanes with AVX-512 (its VL part, which every AVX-512
+    CPU since Skylake has), 8 with AVX or AVX2, 4 with SSE4.2 (or NEON)."""
+    return 16 if vectors == "AVX-512" else 8 if vectors in ("AVX2", "AVX") else 4
+
+
+def mitsuba_embree() -> bool | None:
+    """Whether this Mitsuba traces rays through Embree (its CPU variants' ray tracer)."""
+    try:
+        import mitsuba
+    except ImportError:
+        return None
+    return bool(getattr(mitsuba, "MI_ENABLE_EMBREE", False))
+
+
 def describe_machine(program_stats: dict) -> dict:
     """The machine, from /proc and from a chapter program's --json line (its GL strings)."""
     renderer, gl_version = program_stats["renderer"], program_stats["gl_version"]
-    return {"cpu": cpu_model(), "cores": os.cpu_count(), "vectors": vector_extension(),
+    vectors = vector_extension()
+    return {"cpu": cpu_model(), "cores": os.cpu_count(), "vectors": vectors,
             "gl_renderer": renderer,
             "gl_version": gl_version, "mesa": mesa_version(gl_version),
-            "llvm": llvm_version(renderer), "mitsuba": mitsuba_version(),
-            "python": platform.python_version()}
+            "llvm": llvm_version(renderer), "llvmpipe_lanes": llvmpipe_lanes(renderer),
+            "mitsuba": mitsuba_version(), "mitsuba_lanes": mitsuba_lanes(vectors),
+            "mitsuba_embree": mitsuba_embree(), "python": platform.python_version()}
 
 
 def machine_words(machine: dict) -> str:
-    """'AMD EPYC (2 cores, AVX2), Mesa 22.3.6 with LLVM 15.0.6 (`llvmpipe (...)`)'; a
-    report from before the vector extension was recorded leaves it out."""
+    """'AMD EPYC (2 cores, AVX2), Mesa 22.3.6 with LLVM 15.0.6 (`llvmpipe (...)`), 8
+    lanes; Mitsuba's LLVM backend 8 lanes, with Embree': what decides the ratios. A
+    report from before these were recorded leaves them out."""
     vectors = f", {machine['vectors']}" if machine.get("vectors") else ""
     words = f"{machine['cpu']} ({machine['cores']} cores{vectors}), "
     if machine.get("mesa"):
@@ -89,7 +115,14 @@ def machine_words(machine: dict) -> str:
         words += f" with LLVM {machine['llvm']}" if machine.get("llvm") else ""
     else:
         words += f"OpenGL {machine['gl_version']}"
-    return words + f" (`{machine['gl_renderer']}`)"
+    words += f" (`{machine['gl_renderer']}`)"
+    if machine.get("llvmpipe_lanes"):
+        words += f", {machine['llvmpipe_lanes']} lanes"
+    if machine.get("mitsuba") and machine.get("mitsuba_lanes"):
+        embree = {True: ", with Embree", False: ", without Embree"}.get(
+            machine.get("mitsuba_embree"), "")
+        words += f"; Mitsuba's LLVM backend {machine['mitsuba_lanes']} lanes{embree}"
+    return words
 
 
 def today() -> str:

@@ -574,9 +574,27 @@ def statistical_references(root: Path, build: Path, chapter: str,
     return paths
 
 
+def drop_stale_references(root: Path, build: Path, chapter: str):
+    """build/grading/NN's references name only their arguments: those a changed solution
+    made (its sources, a scene file, the compiler or the GL: reference_maker) are
+    removed, so that they are made again. The folder's `made-by` says which made them.
+    An autograder image, whose sources are gone after --prepare, keeps its own."""
+    if not (root / "chapters" / chapter).is_dir():
+        return
+    private_folder(build / "grading")
+    folder = private_folder(build / "grading" / chapter)
+    maker, mark = reference_maker(root, build, chapter), folder / "made-by"
+    if not mark.exists() or mark.read_text() != maker:
+        for stale in [*folder.glob("*.png"), *folder.glob("*.pfm")]:
+            stale.unlink()
+        mark.write_text(maker)
+
+
 def prepare_references(root: Path, build: Path, chapter: str) -> list[Path]:
     """Every reference image of the chapter's tests, rendered before any submission's
-    code runs (and before an autograder image loses the solution's sources)."""
+    code runs (and before an autograder image loses the solution's sources); those a
+    changed solution made before are made again (drop_stale_references)."""
+    drop_stale_references(root, build, chapter)
     paths = []
     for test in SPECS[chapter[:2]]:
         if test.kind == "image":
