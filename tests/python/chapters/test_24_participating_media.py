@@ -53,6 +53,9 @@ BOUNDARY_BLOCKS_SHADOWS = (
 ONE_CHANNELS_DENSITY = (  # the distance drawn from a random channel, divided by green's
     "media.glsl", "float pdf = (density.r + density.g + density.b) / 3.0;",
     "float pdf = density.g;")
+DISTANCE_KEPT_BY_SUBTRACTION = (  # each crossing moves the origin off the line: overshoots
+    "path.comp", "distance = forever ? FOREVER : dot(end - ray.origin, ray.direction);",
+    "distance -= hit.t;")
 PHASE_BACKWARDS = ("media.glsl", "cosTheta = (1.0 + g * g - s * s) / (2.0 * g);",
                    "cosTheta = -(1.0 + g * g - s * s) / (2.0 * g);")
 
@@ -218,10 +221,14 @@ def test_light_through_an_absorbing_ball_follows_beer_lambert(tmp_path):
     assert np.allclose(image.mean(axis=(0, 1)), expected.mean(axis=(0, 1)), rtol=0.002)
 
 
-def test_an_empty_boundary_changes_nothing(tmp_path):
-    """A boundary around a medium of nothing: the room lit through it exactly as without
-    it (a shadow ray that crossed it once stopped on the light itself: a sixth of the
-    floor's light under the ball was lost)."""
+# The floor under the ball, in a 32 x 32 picture of the smoke room: its light comes
+# through the ball.
+UNDER_THE_BALL = (slice(24, 32), slice(8, 24))
+
+
+def lit_with_and_without_an_empty_boundary(tmp_path, shader_dir=None):
+    """The smoke room direct-lit twice: its ball a boundary around a medium of nothing,
+    and no ball at all. Returns the difference, pixel by pixel."""
     text = (SCENES / "cornell_smoke.scene").read_text()
     empty = text.replace("sigma_a 0.3 0.3 0.3 sigma_s 1.5 4 9 g 0.5", "sigma_a 0 0 0 sigma_s 0 0 0")
     assert empty != text
@@ -230,10 +237,30 @@ def test_an_empty_boundary_changes_nothing(tmp_path):
         "\n".join(line for line in text.splitlines()
                   if not line.startswith(("sphere", "medium", "material edge"))) + "\n")
     args = ("--width", 32, "--height", 32, "--spp", 1024, "--direct")
-    through = path_trace(tmp_path, "empty", "--scene", tmp_path / "empty.scene", *args)
-    alone = path_trace(tmp_path, "none", "--scene", tmp_path / "none.scene", *args)
-    difference, error = mean_and_error((through - alone).reshape(-1, 3))
-    assert np.all(np.abs(difference) < SIGMAS * error + 1e-4), (difference, error)
+    through = path_trace(tmp_path, "empty", "--scene", tmp_path / "empty.scene", *args,
+                         shader_dir=shader_dir)
+    alone = path_trace(tmp_path, "none", "--scene", tmp_path / "none.scene", *args,
+                       shader_dir=shader_dir)
+    return through - alone
+
+
+def test_an_empty_boundary_changes_nothing(tmp_path):
+    """The room lit through an empty boundary exactly as without it: over the picture,
+    and on the floor under the ball."""
+    difference = lit_with_and_without_an_empty_boundary(tmp_path)
+    for pixels in (difference, difference[UNDER_THE_BALL]):
+        mean, error = mean_and_error(pixels.reshape(-1, 3))
+        assert np.all(np.abs(mean) < SIGMAS * error + 1e-4), (mean, error)
+
+
+def test_shadow_distance_kept_by_subtraction_fails(tmp_path):
+    """A shadow ray that keeps its distance by subtracting each hit's t, while every
+    crossing moves its origin off the line, runs past its stop after two crossings and
+    meets the light itself: half the floor's light under the ball is lost."""
+    shader_dir = shaders_with(tmp_path, DISTANCE_KEPT_BY_SUBTRACTION)
+    difference = lit_with_and_without_an_empty_boundary(tmp_path, shader_dir)
+    mean, error = mean_and_error(difference[UNDER_THE_BALL].reshape(-1, 3))
+    assert np.all(mean < -SIGMAS * error - 1e-4), (mean, error)
 
 
 # --- The white furnace ---------------------------------------------------------------------
