@@ -4,6 +4,7 @@
 // before their line, the camera, an emitter) is checked at the end.
 #include "course/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "course/error.h"
 #include "course/image_read.h"
 #include "course/text_file.h"
+#include "course/volume_grid.h"
 
 namespace course {
 namespace {
@@ -25,7 +27,7 @@ namespace fs = std::filesystem;
 // A scene file is a few kilobytes: meshes live in OBJ files. This only stops a wrong
 // file (a video, a disk image) from being read into memory whole.
 constexpr std::uintmax_t kMostBytes = std::uintmax_t(16) << 20;
-// No statement has more fields than a camera with a lens (21 words).
+// No statement has more fields than a camera with a lens and a medium (23 words).
 constexpr size_t kMostWords = 24;
 constexpr const char* kNameRule =
     "use letters, digits, '_' and '-', starting with a letter or '_'";
@@ -63,6 +65,16 @@ struct MaterialUse {
     size_t line;
     ShapeKind kind;
     size_t shape;  // index into the scene's vector of that kind of shape
+};
+
+// A medium named by a sphere's or a mesh's `interior`, or by the camera; resolved at
+// the end, as materials are.
+enum class MediumPlace { Sphere, Mesh, Camera };
+struct MediumUse {
+    std::string name;
+    size_t line;
+    MediumPlace place;
+    size_t shape;  // index into the spheres or meshes
 };
 
 class SceneParser {
@@ -103,10 +115,12 @@ public:
             readMesh(words);
         else if (keyword == "environment")
             readEnvironment(words);
+        else if (keyword == "medium")
+            readMedium(words);
         else
             fail("unknown keyword " + inQuotes(keyword) +
-                 " (expected camera, texture, material, sphere, quad, triangle, mesh or "
-                 "environment)");
+                 " (expected camera, texture, material, medium, sphere, quad, triangle, "
+                 "mesh or environment)");
     }
 
     SceneFile finish() {
@@ -121,8 +135,40 @@ public:
                                      " is textured, and this shape has no texture "
                                      "coordinates: textures apply to quads and meshes");
         }
+        for (const MediumUse& use : mediumUses_) {
+            const auto found = mediumIndex_.find(use.name);
+            if (found == mediumIndex_.end())
+                failAt(use.line, "medium " + inQuotes(use.name) + " is not defined");
+            const int32_t medium = int32_t(found->second);
+            if (use.place == MediumPlace::Camera) {
+                scene_.camera.medium = medium;
+                continue;
+            }
+            const bool sphere = use.place == MediumPlace::Sphere;
+            const uint32_t material = sphere ? scene_.spheres[use.shape].material
+                                             : scene_.meshes[use.shape].material;
+            const MaterialKind kind = scene_.materials[material].kind;
+            if (kind != MaterialKind::Boundary && kind != MaterialKind::Dielectric)
+                failAt(use.line, "an interior medium needs a surface light passes through, "
+                                 "a 'boundary' or 'dielectric' material; " +
+                                     inQuotes(scene_.materials[material].name) + " is " +
+                                     materialKindWord(kind));
+            (sphere ? scene_.spheres[use.shape].interior : scene_.meshes[use.shape].interior) =
+                medium;
+        }
         // What this program does not read: exit code 3 at the first line that uses it.
         const SceneSupport& reads = support_;
+        if (!reads.media.read) {
+            size_t first = scene_.media.empty() ? 0 : scene_.media.front().line;
+            auto earlier = [&first](size_t line) { first = first ? std::min(first, line) : line; };
+            for (const SceneMaterial& material : scene_.materials)
+                if (material.kind == MaterialKind::Boundary) earlier(material.line);
+            for (const MediumUse& use : mediumUses_) earlier(use.line);
+            if (first)
+                failAt(first, "this program renders no participating media (medium "
+                              "statements, boundary materials)" +
+                                  comesIn("media come", reads.media));
+        }
         if (!reads.environment.read && scene_.hasEnvironment())
             failAt(scene_.environment.line, "this program has no environment light" +
                                                 comesIn("it comes", reads.environment));
@@ -191,11 +237,12 @@ private:
     }
 
     // camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
+    //        [medium MEDIUM]
     void readCamera(const Words& words) {
-        if (words.size() != 20)
+        if (words.size() < 16 || words.size() > 22 || words.size() % 2 != 0)
             expectFieldCount("camera", words, 16,
                              "eye X Y Z look X Y Z up X Y Z focal F sensor S, then "
-                             "optionally lens RADIUS focus DISTANCE");
+                             "optionally lens RADIUS focus DISTANCE and medium MEDIUM");
         if (cameraLine_ != 0)
             fail("a second camera (the first is on line " + std::to_string(cameraLine_) + ")");
         const char* labels[] = {"eye", "look", "up"};
@@ -219,15 +266,27 @@ private:
             fail("the camera's up must not be parallel to its look direction");
         if (!(camera.focalLength > 0.0f) || !(camera.sensorWidth > 0.0f))
             fail("the camera's focal length and sensor width must be positive");
-        if (words.size() == 20) {
-            expectLabel(words, 16, "lens", "camera");
-            expectLabel(words, 18, "focus", "camera");
-            camera.lensRadius = readNumber(words[17]);
-            camera.focusDistance = readNumber(words[19]);
-            if (!(camera.lensRadius >= 0.0f))
-                fail("the lens radius " + inQuotes(words[17]) + " must be 0 or more");
-            if (!(camera.focusDistance > 0.0f))
-                fail("the focus distance " + inQuotes(words[19]) + " must be positive");
+        bool seenLens = false, seenMedium = false;
+        for (size_t i = 16; i < words.size();) {
+            if (words[i] == "lens" && !seenLens && i + 4 <= words.size()) {
+                expectLabel(words, i + 2, "focus", "camera");
+                camera.lensRadius = readNumber(words[i + 1]);
+                camera.focusDistance = readNumber(words[i + 3]);
+                if (!(camera.lensRadius >= 0.0f))
+                    fail("the lens radius " + inQuotes(words[i + 1]) + " must be 0 or more");
+                if (!(camera.focusDistance > 0.0f))
+                    fail("the focus distance " + inQuotes(words[i + 3]) + " must be positive");
+                seenLens = true;
+                i += 4;
+            } else if (words[i] == "medium" && !seenMedium) {
+                useMedium(words[i + 1], MediumPlace::Camera, 0);
+                seenMedium = true;
+                i += 2;
+            } else {
+                fail("unexpected " + inQuotes(words[i]) +
+                     " in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
+                     "medium MEDIUM, each once)");
+            }
         }
         scene_.camera = camera;
         cameraLine_ = lineNumber_;
@@ -267,6 +326,8 @@ private:
             next += 3;
         } else if (kind == "mirror") {
             material.kind = MaterialKind::Mirror;
+        } else if (kind == "boundary") {
+            material.kind = MaterialKind::Boundary;
         } else if (kind == "conductor") {
             material.kind = MaterialKind::Conductor;
             expectWords(words, next + 8, "conductor eta R G B k R G B");
@@ -291,7 +352,7 @@ private:
             next += 2;
         } else {
             fail("unknown material kind " + inQuotes(kind) +
-                 " (expected albedo, mirror, conductor or dielectric)");
+                 " (expected albedo, mirror, conductor, dielectric or boundary)");
         }
         // The optional words, each once, each only where it means something.
         const std::string described =
@@ -443,10 +504,26 @@ private:
         return std::string(name);
     }
 
-    // sphere CX CY CZ RADIUS MATERIAL [name NAME]
+    // sphere CX CY CZ RADIUS MATERIAL [interior MEDIUM] [name NAME]
     void readSphere(const Words& words) {
         SceneSphere sphere;
-        sphere.name = readShapeFields("sphere", words, 5, "CX CY CZ RADIUS MATERIAL");
+        const size_t count = 5;
+        if (words.size() < count)
+            fail("'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally "
+                 "interior MEDIUM and name NAME; got " + std::to_string(words.size()));
+        bool seenInterior = false, seenName = false;
+        for (size_t i = count; i < words.size(); i += 2) {
+            const bool interior = words[i] == "interior" && !seenInterior;
+            const bool name = words[i] == "name" && !seenName;
+            if ((!interior && !name) || i + 1 >= words.size())
+                fail("'sphere' takes after its 5 fields only interior MEDIUM and name NAME, "
+                     "each once; got " + inQuotes(words[i]));
+            if (interior)
+                useMedium(words[i + 1], MediumPlace::Sphere, scene_.spheres.size());
+            else
+                sphere.name = readShapeName(words[i + 1]);
+            (interior ? seenInterior : seenName) = true;
+        }
         sphere.center = readVector(words, 0);
         sphere.radius = readNumber(words[3]);
         if (!(sphere.radius > 0.0f))
@@ -502,21 +579,22 @@ private:
         mesh.writtenPath = std::string(words[0]);
         mesh.path = findFile(mesh.writtenPath, "mesh file");
         mesh.line = lineNumber_;
-        bool seen[4] = {false, false, false, false};
+        bool seen[5] = {false, false, false, false, false};
         for (size_t i = 2; i < words.size();) {
             const std::string_view option = words[i];
             const int which = option == "scale" ? 0 : option == "rotate_y" ? 1
-                            : option == "translate" ? 2 : option == "name" ? 3 : -1;
+                            : option == "translate" ? 2 : option == "name" ? 3
+                            : option == "interior" ? 4 : -1;
             if (which < 0)
                 fail("unknown mesh option " + inQuotes(option) +
-                     " (expected scale, rotate_y, translate or name)");
+                     " (expected scale, rotate_y, translate, interior or name)");
             if (seen[which])
                 fail(inQuotes(option) + " is given twice");
             seen[which] = true;
             const size_t count = which == 2 ? 3 : 1;
             if (words.size() - (i + 1) < count)
                 fail(inQuotes(option) + " needs " + std::to_string(count) +
-                     (which == 3 ? " name" : count == 1 ? " number" : " numbers"));
+                     (which >= 3 ? " name" : count == 1 ? " number" : " numbers"));
             if (which == 0) {
                 mesh.scale = readNumber(words[i + 1]);
                 if (!(mesh.scale > 0.0f))
@@ -525,6 +603,8 @@ private:
                 mesh.rotationYDegrees = readNumber(words[i + 1]);
             } else if (which == 3) {
                 mesh.name = readShapeName(words[i + 1]);
+            } else if (which == 4) {
+                useMedium(words[i + 1], MediumPlace::Mesh, scene_.meshes.size());
             } else {
                 mesh.translation = readVector(words, i + 1);
             }
@@ -532,6 +612,74 @@ private:
         }
         useMaterial(words[1], ShapeKind::Mesh, scene_.meshes.size());
         scene_.meshes.push_back(mesh);
+    }
+
+    void useMedium(std::string_view name, MediumPlace place, size_t shape) {
+        mediumUses_.push_back({std::string(name), lineNumber_, place, shape});
+    }
+
+    // medium NAME homogeneous sigma_a R G B sigma_s R G B [g G]
+    //        NAME grid PATH albedo R G B [scale S] [g G]
+    void readMedium(const Words& words) {
+        if (words.size() < 2)
+            fail("'medium' needs a name and a kind (NAME homogeneous sigma_a R G B sigma_s "
+                 "R G B, NAME grid PATH albedo R G B)");
+        const std::string_view name = words[0];
+        if (!isName(name))
+            fail("medium name " + inQuotes(name) + ": " + kNameRule);
+        const std::string key(name);
+        if (const auto earlier = mediumIndex_.find(key); earlier != mediumIndex_.end())
+            fail("medium " + inQuotes(name) + " is already defined on line " +
+                 std::to_string(scene_.media[earlier->second].line));
+        SceneMedium medium;
+        medium.name = key;
+        medium.line = lineNumber_;
+        size_t next = 0;
+        if (words[1] == "homogeneous") {
+            if (words.size() < 10)
+                fail("'medium NAME homogeneous' needs sigma_a R G B sigma_s R G B");
+            expectLabel(words, 2, "sigma_a", "medium");
+            medium.sigmaA = readNonNegative(words, 3, "sigma_a");
+            expectLabel(words, 6, "sigma_s", "medium");
+            medium.sigmaS = readNonNegative(words, 7, "sigma_s");
+            next = 10;
+        } else if (words[1] == "grid") {
+            medium.kind = MediumKind::Grid;
+            if (words.size() < 7)
+                fail("'medium NAME grid' needs PATH albedo R G B");
+            medium.writtenPath = std::string(words[2]);
+            medium.path = findFile(medium.writtenPath, "grid file");
+            const std::string problem = volumeGridProblem(medium.path);
+            if (!problem.empty())
+                fail("grid " + inQuotes(medium.writtenPath) + " (" + medium.path + "): " +
+                     problem);
+            expectLabel(words, 3, "albedo", "medium");
+            medium.albedo = readFraction(words, 4, "albedo");
+            next = 7;
+        } else {
+            fail("unknown medium kind " + inQuotes(words[1]) + " (expected homogeneous or grid)");
+        }
+        bool seenG = false, seenScale = false;
+        for (; next < words.size(); next += 2) {
+            const std::string_view option = words[next];
+            const bool scale = option == "scale" && medium.kind == MediumKind::Grid;
+            if ((option != "g" && !scale) || (option == "g" ? seenG : seenScale))
+                fail("unexpected " + inQuotes(option) + " in medium " + inQuotes(name) +
+                     (medium.kind == MediumKind::Grid ? " (after the albedo: scale S, g G)"
+                                                      : " (after sigma_s: g G)"));
+            if (next + 1 >= words.size())
+                fail(inQuotes(option) + " needs a number");
+            const float value = readNumber(words[next + 1]);
+            if (scale && !(value > 0.0f))
+                fail("the grid's scale " + inQuotes(words[next + 1]) + " must be positive");
+            if (!scale && !(value > -1.0f && value < 1.0f))
+                fail("g " + inQuotes(words[next + 1]) +
+                     " must lie strictly between -1 and 1 (the phase function's mean cosine)");
+            (scale ? medium.scale : medium.g) = value;
+            (scale ? seenScale : seenG) = true;
+        }
+        mediumIndex_[key] = uint32_t(scene_.media.size());
+        scene_.media.push_back(medium);
     }
 
     // environment PATH [scale S] [rotate_y DEGREES]
@@ -600,6 +748,8 @@ private:
     std::unordered_map<std::string, uint32_t> materialIndex_;
     std::unordered_map<std::string, uint32_t> textureIndex_;
     std::vector<MaterialUse> uses_;
+    std::unordered_map<std::string, uint32_t> mediumIndex_;
+    std::vector<MediumUse> mediumUses_;
     SceneFile scene_;
 };
 
@@ -628,6 +778,7 @@ const char* materialKindWord(MaterialKind kind) {
     case MaterialKind::Mirror: return "mirror";
     case MaterialKind::Conductor: return "conductor";
     case MaterialKind::Dielectric: return "dielectric";
+    case MaterialKind::Boundary: return "boundary";
     case MaterialKind::Diffuse: break;
     }
     return "albedo";
@@ -680,6 +831,7 @@ std::string formatSceneFile(const SceneFile& scene) {
                        " sensor " + number(camera.sensorWidth);
     if (camera.lensRadius > 0.0f)
         text += " lens " + number(camera.lensRadius) + " focus " + number(camera.focusDistance);
+    if (camera.medium >= 0) text += " medium " + scene.media.at(size_t(camera.medium)).name;
     text += "\n";
     for (const SceneTexture& texture : scene.textures) {
         if (texture.kind == TextureKind::Image)
@@ -708,17 +860,31 @@ std::string formatSceneFile(const SceneFile& scene) {
         case MaterialKind::Dielectric:
             text += " ior " + number(material.ior);
             break;
+        case MaterialKind::Boundary:
+            break;
         }
         if (material.roughness > 0.0f) text += " roughness " + number(material.roughness);
         text += "\n";
     }
+    for (const SceneMedium& medium : scene.media) {
+        if (medium.kind == MediumKind::Homogeneous)
+            text += "medium " + medium.name + " homogeneous sigma_a " + numbers(medium.sigmaA) +
+                    " sigma_s " + numbers(medium.sigmaS);
+        else
+            text += "medium " + medium.name + " grid " + medium.writtenPath + " albedo " +
+                    numbers(medium.albedo) + " scale " + number(medium.scale);
+        text += " g " + number(medium.g) + "\n";
+    }
+    auto interior = [&scene](int32_t medium) {
+        return medium < 0 ? std::string() : " interior " + scene.media.at(size_t(medium)).name;
+    };
     auto name = [&scene](uint32_t material) { return scene.materials.at(material).name; };
     auto shapeName = [](const std::string& name) {
         return name.empty() ? std::string("\n") : " name " + name + "\n";
     };
     for (const SceneSphere& sphere : scene.spheres)
         text += "sphere " + numbers(sphere.center) + " " + number(sphere.radius) + " " +
-                name(sphere.material) + shapeName(sphere.name);
+                name(sphere.material) + interior(sphere.interior) + shapeName(sphere.name);
     for (const SceneQuad& quad : scene.quads)
         text += "quad " + numbers(quad.origin) + " " + numbers(quad.edge1) + " " +
                 numbers(quad.edge2) + " " + name(quad.material) + shapeName(quad.name);
@@ -728,7 +894,8 @@ std::string formatSceneFile(const SceneFile& scene) {
     for (const SceneMesh& mesh : scene.meshes)
         text += "mesh " + mesh.writtenPath + " " + name(mesh.material) + " scale " +
                 number(mesh.scale) + " rotate_y " + number(mesh.rotationYDegrees) +
-                " translate " + numbers(mesh.translation) + shapeName(mesh.name);
+                " translate " + numbers(mesh.translation) + interior(mesh.interior) +
+                shapeName(mesh.name);
     if (scene.hasEnvironment())
         text += "environment " + scene.environment.writtenPath + " scale " +
                 number(scene.environment.scale) + " rotate_y " +

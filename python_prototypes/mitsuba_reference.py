@@ -156,6 +156,8 @@ def mitsuba_bsdf(material: scene_io.Material, textures: dict | None = None) -> d
     if material.kind == "mirror":
         return {"type": "conductor", "material": "none",
                 "specular_reflectance": rgb(material.reflectance)}
+    if material.kind == "boundary":
+        return {"type": "null"}
     rough = {"distribution": "ggx", "alpha": material.roughness, "sample_visible": True}
     if material.kind == "conductor":
         bsdf = {"eta": rgb(material.eta), "k": rgb(material.k)}
@@ -164,6 +166,19 @@ def mitsuba_bsdf(material: scene_io.Material, textures: dict | None = None) -> d
     bsdf = {"int_ior": material.ior, "ext_ior": 1.0}
     return {"type": "roughdielectric", **rough, **bsdf} if material.roughness > 0 \
         else {"type": "dielectric", **bsdf}
+
+
+def mitsuba_medium(medium: scene_io.Medium) -> dict:
+    """A homogeneous medium in Mitsuba 3's words: sigma_t = sigma_a + sigma_s and the
+    albedo sigma_s / sigma_t (any value where sigma_t is 0), with an `hg` phase."""
+    sigma_t = np.add(medium.sigma_a, medium.sigma_s)
+    albedo = np.divide(medium.sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+    # Mitsuba reads an RGB value as a reflectance, in [0, 1]: sigma_t goes in as its
+    # largest channel (`scale`) times a colour.
+    scale = float(sigma_t.max()) or 1.0
+    return {"type": "homogeneous", "sigma_t": rgb((sigma_t / scale).tolist()),
+            "albedo": rgb(albedo.tolist()), "scale": scale,
+            "phase": {"type": "hg", "g": medium.g}}
 
 
 def mitsuba_envmap(mi, environment: scene_io.Environment) -> dict:
@@ -201,17 +216,31 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
                  "rfilter": {"type": "box"}, "pixel_format": "rgb",
                  "component_format": "float32"},
     })
+    # Media need the volumetric path tracer; its depth counts as `path`'s does, with a
+    # medium's scattering a bounce and a null (boundary) surface none.
+    integrator = "volpath" if scene.media else "path"
     result = {
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": mitsuba_max_depth(bounces)},
+        "integrator": {"type": integrator, "max_depth": mitsuba_max_depth(bounces)},
         "sensor": sensor,
     }
+    for name, medium in scene.media.items():
+        result[f"medium_{name}"] = mitsuba_medium(medium)
+    if scene.camera.medium is not None:
+        sensor["medium"] = {"type": "ref", "id": f"medium_{scene.camera.medium}"}
     for name, material in scene.materials.items():
         result[f"material_{name}"] = mitsuba_bsdf(material, scene.textures)
 
-    def surface(shape_dict, material_name):
+    def surface(shape_dict, material_name, interior=None):
         shape_dict["bsdf"] = {"type": "ref", "id": f"material_{material_name}"}
         material = scene.materials[material_name]
+        # A surface light passes through has its interior behind it and the camera's
+        # medium in front (common/course/scene_file.h); opaque ones change no medium.
+        if material.kind in ("boundary", "dielectric"):
+            if interior is not None:
+                shape_dict["interior"] = {"type": "ref", "id": f"medium_{interior}"}
+            if scene.camera.medium is not None:
+                shape_dict["exterior"] = {"type": "ref", "id": f"medium_{scene.camera.medium}"}
         if material.emits:
             shape_dict["emitter"] = {"type": "area",
                                      "radiance": {"type": "rgb",
@@ -224,13 +253,13 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
     for index, sphere in enumerate(scene.spheres):
         result[f"sphere_{index}"] = surface(
             {"type": "sphere", "center": list(sphere.center), "radius": sphere.radius},
-            sphere.material)
+            sphere.material, sphere.interior)
     if scene.environment is not None:
         result["environment"] = mitsuba_envmap(mi, scene.environment)
     for index, mesh in enumerate(scene.meshes):
         result[f"mesh_{index}"] = surface(
             {"type": "obj", "filename": str(mesh.path), "flip_tex_coords": False,
-             "to_world": T(mesh.world_from_mesh())}, mesh.material)
+             "to_world": T(mesh.world_from_mesh())}, mesh.material, mesh.interior)
     if scene.triangles:
         if work_folder is None:
             raise ValueError("the scene has triangles: pass a work_folder for their OBJ files")

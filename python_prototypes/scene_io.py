@@ -61,6 +61,7 @@ class SceneCamera:
     sensor_width: float
     lens_radius: float = 0.0     # the aperture's radius (metres); 0 is the pinhole
     focus_distance: float = 0.0  # with a lens: the sharp plane, metres along look
+    medium: str | None = None    # the medium around the camera (`medium MEDIUM`)
 
     def as_camera(self) -> camera_rays.Camera:
         return camera_rays.Camera(self.eye, self.look, self.up, self.focal_length,
@@ -98,7 +99,7 @@ class Material:
     albedo: tuple = (0.0, 0.0, 0.0)    # albedo: the reflected fraction per channel
     texture: str | None = None         # albedo: a texture's name, used instead of albedo
     emission: tuple = (0.0, 0.0, 0.0)  # albedo only: the emitted radiance
-    kind: str = "albedo"               # "albedo", "mirror", "conductor" or "dielectric"
+    kind: str = "albedo"               # "albedo", "mirror", "conductor", "dielectric", "boundary"
     reflectance: tuple = (1.0, 1.0, 1.0)  # mirror
     eta: tuple = (1.0, 1.0, 1.0)       # conductor: the complex index eta + i k
     k: tuple = (0.0, 0.0, 0.0)
@@ -111,11 +112,28 @@ class Material:
 
 
 @dataclass
+class Medium:
+    """medium NAME homogeneous sigma_a R G B sigma_s R G B [g G] |
+    NAME grid PATH albedo R G B [scale S] [g G]"""
+    name: str
+    kind: str                             # "homogeneous" or "grid"
+    sigma_a: tuple = (0.0, 0.0, 0.0)      # homogeneous: per metre, per channel
+    sigma_s: tuple = (0.0, 0.0, 0.0)
+    path: Path | None = None              # grid: absolute, where the .vol file was found
+    written_path: str = ""
+    albedo: tuple = (0.0, 0.0, 0.0)       # grid: sigma_s / sigma_t
+    scale: float = 1.0                    # grid: sigma_t per metre at density 1
+    g: float = 0.0                        # Henyey-Greenstein's mean cosine
+    line: int = 0
+
+
+@dataclass
 class Sphere:
     center: tuple
     radius: float
     material: str
     name: str = ""
+    interior: str | None = None  # the medium inside
 
 
 @dataclass
@@ -155,6 +173,7 @@ class Mesh:
     translation: tuple = (0.0, 0.0, 0.0)
     name: str = ""
     line: int = 0
+    interior: str | None = None  # the medium inside (a closed mesh)
 
     def world_from_mesh(self) -> np.ndarray:
         """4x4: scale, then turn about y (counter-clockwise seen from above), then move."""
@@ -188,6 +207,7 @@ class Scene:
     triangles: list = field(default_factory=list)
     meshes: list = field(default_factory=list)
     environment: Environment | None = None  # the `environment` line, if there is one
+    media: dict = field(default_factory=dict)  # name -> Medium, in file order
 
     def shapes(self):
         """(kind, index, shape) for every shape: spheres, quads, triangles, meshes."""
@@ -247,6 +267,28 @@ def shape_fields(keyword, words, count, fields):
     return words, ""
 
 
+def read_sphere(words) -> Sphere:
+    """sphere CX CY CZ RADIUS MATERIAL [interior MEDIUM] [name NAME]"""
+    if len(words) < 5:
+        raise SceneError("'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally "
+                         f"interior MEDIUM and name NAME; got {len(words)}")
+    sphere = Sphere(vector(words, 0), number(words[3]), words[4])
+    seen = set()
+    for i in range(5, len(words), 2):
+        option = words[i]
+        if option not in ("interior", "name") or option in seen or i + 1 >= len(words):
+            raise SceneError("'sphere' takes after its 5 fields only interior MEDIUM and name "
+                             f"NAME, each once; got '{option}'")
+        seen.add(option)
+        if option == "interior":
+            sphere.interior = words[i + 1]
+        else:
+            sphere.name = shape_name(words[i + 1])
+    if not sphere.radius > 0:
+        raise SceneError(f"the sphere's radius must be positive, got '{words[3]}'")
+    return sphere
+
+
 def is_degenerate(edge1, edge2) -> bool:
     edge1, edge2 = np.asarray(edge1, dtype=np.float64), np.asarray(edge2, dtype=np.float64)
     area = np.linalg.norm(np.cross(edge1, edge2))
@@ -254,10 +296,10 @@ def is_degenerate(edge1, edge2) -> bool:
 
 
 def read_camera(words) -> SceneCamera:
-    if len(words) not in (16, 20):
+    if len(words) < 16 or len(words) > 22 or len(words) % 2:
         raise SceneError("'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F "
-                         "sensor S, then optionally lens RADIUS focus DISTANCE), got "
-                         f"{len(words)}")
+                         "sensor S, then optionally lens RADIUS focus DISTANCE and medium "
+                         f"MEDIUM), got {len(words)}")
     for index, label in [(0, "eye"), (4, "look"), (8, "up"), (12, "focal"), (14, "sensor")]:
         expect_label(words, index, label, "camera")
     camera = SceneCamera(vector(words, 1), vector(words, 5), vector(words, 9),
@@ -271,15 +313,76 @@ def read_camera(words) -> SceneCamera:
         raise SceneError("the camera's up must not be parallel to its look direction")
     if not (camera.focal_length > 0 and camera.sensor_width > 0):
         raise SceneError("the camera's focal length and sensor width must be positive")
-    if len(words) == 20:
-        expect_label(words, 16, "lens", "camera")
-        expect_label(words, 18, "focus", "camera")
-        camera.lens_radius, camera.focus_distance = number(words[17]), number(words[19])
-        if not camera.lens_radius >= 0:
-            raise SceneError(f"the lens radius '{words[17]}' must be 0 or more")
-        if not camera.focus_distance > 0:
-            raise SceneError(f"the focus distance '{words[19]}' must be positive")
+    i, seen = 16, set()
+    while i < len(words):
+        option = words[i]
+        if option == "lens" and option not in seen and i + 4 <= len(words):
+            expect_label(words, i + 2, "focus", "camera")
+            camera.lens_radius, camera.focus_distance = number(words[i + 1]), number(words[i + 3])
+            if not camera.lens_radius >= 0:
+                raise SceneError(f"the lens radius '{words[i + 1]}' must be 0 or more")
+            if not camera.focus_distance > 0:
+                raise SceneError(f"the focus distance '{words[i + 3]}' must be positive")
+            i += 4
+        elif option == "medium" and option not in seen:
+            camera.medium = words[i + 1]
+            i += 2
+        else:
+            raise SceneError(f"unexpected '{option}' in 'camera' (after the sensor: lens "
+                             "RADIUS focus DISTANCE, medium MEDIUM, each once)")
+        seen.add(option)
     return camera
+
+
+def read_medium(words, scene_path, mesh_folders, line) -> Medium:
+    if len(words) < 2:
+        raise SceneError("'medium' needs a name and a kind (NAME homogeneous sigma_a R G B "
+                         "sigma_s R G B, NAME grid PATH albedo R G B)")
+    name, kind = words[0], words[1]
+    if not NAME.match(name):
+        raise SceneError(f"medium name '{name}': use letters, digits, '_' and '-', "
+                         "starting with a letter or '_'")
+    medium = Medium(name, kind, line=line)
+    if kind == "homogeneous":
+        if len(words) < 10:
+            raise SceneError("'medium NAME homogeneous' needs sigma_a R G B sigma_s R G B")
+        expect_label(words, 2, "sigma_a", "medium")
+        medium.sigma_a = read_non_negative(words, 3, "sigma_a")
+        expect_label(words, 6, "sigma_s", "medium")
+        medium.sigma_s = read_non_negative(words, 7, "sigma_s")
+        at = 10
+    elif kind == "grid":
+        if len(words) < 7:
+            raise SceneError("'medium NAME grid' needs PATH albedo R G B")
+        medium.written_path = words[2]
+        medium.path = find_file(words[2], scene_path, mesh_folders, "grid file")
+        expect_label(words, 3, "albedo", "medium")
+        medium.albedo = read_fraction(words, 4, "albedo")
+        at = 7
+    else:
+        raise SceneError(f"unknown medium kind '{kind}' (expected homogeneous or grid)")
+    seen = set()
+    while at < len(words):
+        option = words[at]
+        scale = option == "scale" and kind == "grid"
+        if (option != "g" and not scale) or option in seen:
+            after = "after the albedo: scale S, g G" if kind == "grid" else "after sigma_s: g G"
+            raise SceneError(f"unexpected '{option}' in medium '{name}' ({after})")
+        if at + 1 >= len(words):
+            raise SceneError(f"'{option}' needs a number")
+        value = number(words[at + 1])
+        if scale and not value > 0:
+            raise SceneError(f"the grid's scale '{words[at + 1]}' must be positive")
+        if not scale and not -1 < value < 1:
+            raise SceneError(f"g '{words[at + 1]}' must lie strictly between -1 and 1 (the "
+                             "phase function's mean cosine)")
+        if scale:
+            medium.scale = value
+        else:
+            medium.g = value
+        seen.add(option)
+        at += 2
+    return medium
 
 
 def read_fraction(words, first: int, what: str) -> tuple:
@@ -340,6 +443,8 @@ def read_material(words, textures) -> Material:
             if material.k[index] < 0:
                 raise SceneError(f"k '{words[at + 5 + index]}' is negative")
         at += 8
+    elif kind == "boundary":
+        pass
     elif kind == "dielectric":
         if len(words) < at + 2:
             raise SceneError("'material' dielectric ior N: too few fields")
@@ -350,7 +455,7 @@ def read_material(words, textures) -> Material:
         at += 2
     else:
         raise SceneError(f"unknown material kind '{kind}' (expected albedo, mirror, "
-                         "conductor or dielectric)")
+                         "conductor, dielectric or boundary)")
     described = f"material '{name}' ({kind})"
     seen = set()
     while at < len(words):
@@ -435,16 +540,17 @@ def read_mesh(words, scene_path, mesh_folders, line) -> Mesh:
     i = 2
     while i < len(words):
         option = words[i]
-        counts = {"scale": 1, "rotate_y": 1, "translate": 3, "name": 1}
+        counts = {"scale": 1, "rotate_y": 1, "translate": 3, "name": 1, "interior": 1}
         if option not in counts:
             raise SceneError(f"unknown mesh option '{option}' "
-                             "(expected scale, rotate_y, translate or name)")
+                             "(expected scale, rotate_y, translate, interior or name)")
         if option in seen:
             raise SceneError(f"'{option}' is given twice")
         seen.add(option)
         count = counts[option]
         if len(words) - (i + 1) < count:
-            what = "name" if option == "name" else "number" if count == 1 else "numbers"
+            what = "name" if option in ("name", "interior") else "number" if count == 1 \
+                else "numbers"
             raise SceneError(f"'{option}' needs {count} {what}")
         if option == "scale":
             mesh.scale = number(words[i + 1])
@@ -454,6 +560,8 @@ def read_mesh(words, scene_path, mesh_folders, line) -> Mesh:
             mesh.rotation_y_degrees = number(words[i + 1])
         elif option == "translate":
             mesh.translation = vector(words, i + 1)
+        elif option == "interior":
+            mesh.interior = words[i + 1]
         else:
             mesh.name = shape_name(words[i + 1])
         i += 1 + count
@@ -506,6 +614,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
     path = absolute(path)
     camera, camera_line = None, 0
     materials, material_lines, uses = {}, {}, []  # uses: (line, material, shape kind)
+    interiors = []  # (line, shape) for each sphere or mesh with an interior medium
     scene = Scene(path, None)
 
     def fail(line, message):
@@ -540,12 +649,17 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 materials[material.name] = material
                 material_lines[material.name] = line_number
             elif keyword == "sphere":
-                fields, name = shape_fields("sphere", words, 5, "CX CY CZ RADIUS MATERIAL")
-                center, radius = vector(fields, 0), number(fields[3])
-                if not radius > 0:
-                    raise SceneError(f"the sphere's radius must be positive, got '{fields[3]}'")
-                uses.append((line_number, fields[4], "sphere"))
-                scene.spheres.append(Sphere(center, radius, fields[4], name))
+                sphere = read_sphere(words)
+                uses.append((line_number, sphere.material, "sphere"))
+                scene.spheres.append(sphere)
+                if sphere.interior is not None:
+                    interiors.append((line_number, sphere))
+            elif keyword == "medium":
+                medium = read_medium(words, path, mesh_folders, line_number)
+                if medium.name in scene.media:
+                    raise SceneError(f"medium '{medium.name}' is already defined on line "
+                                     f"{scene.media[medium.name].line}")
+                scene.media[medium.name] = medium
             elif keyword == "quad":
                 fields, name = shape_fields("quad", words, 10,
                                             "OX OY OZ EX EY EZ FX FY FZ MATERIAL")
@@ -570,6 +684,8 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 mesh = read_mesh(words, path, mesh_folders, line_number)
                 uses.append((line_number, mesh.material, "mesh"))
                 scene.meshes.append(mesh)
+                if mesh.interior is not None:
+                    interiors.append((line_number, mesh))
             elif keyword == "environment":
                 if scene.environment is not None:
                     raise SceneError("a second environment (the first is on line "
@@ -578,7 +694,8 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                                                      line_number)
             else:
                 raise SceneError(f"unknown keyword '{keyword}' (expected camera, texture, "
-                                 "material, sphere, quad, triangle, mesh or environment)")
+                                 "material, medium, sphere, quad, triangle, mesh or "
+                                 "environment)")
         except SceneError as error:
             fail(line_number, str(error))
 
@@ -589,6 +706,17 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
         if materials[material].texture is not None and kind not in ("quad", "mesh"):
             fail(line_number, f"material '{material}' is textured, and this shape has no "
                               "texture coordinates: textures apply to quads and meshes")
+    media_uses = [(line, shape.interior, shape) for line, shape in interiors]
+    if camera is not None and camera.medium is not None:
+        media_uses.insert(0, (camera_line, camera.medium, None))
+    for line_number, medium, shape in sorted(media_uses, key=lambda use: use[0]):
+        if medium not in scene.media:
+            fail(line_number, f"medium '{medium}' is not defined")
+        kind = materials[shape.material].kind if shape is not None else None
+        if shape is not None and kind not in ("boundary", "dielectric"):
+            fail(line_number, "an interior medium needs a surface light passes through, a "
+                              f"'boundary' or 'dielectric' material; '{shape.material}' is "
+                              f"{kind}")
     if camera is None:
         fail(0, "no camera: a scene needs one 'camera' line")
     scene.camera = camera

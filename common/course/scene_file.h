@@ -7,13 +7,15 @@
 // -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
 //
 //   camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
+//          [medium MEDIUM]
 //       a pinhole camera (python_prototypes/camera_rays.py): the eye, a viewing direction
 //       (not a point), roughly-up, the focal length and the sensor's *width*; exactly
 //       one per file. Its horizontal field of view is 2 atan(S / 2F). With `lens`, a
 //       thin lens (python_prototypes/thin_lens.py): an aperture of RADIUS >= 0 metres
 //       centred on the eye, sharp on the plane DISTANCE > 0 metres in front of it
 //       (Mitsuba 3's `thinlens`, aperture_radius and focus_distance); RADIUS 0 is the
-//       pinhole again.
+//       pinhole again. With `medium`, the camera stands in MEDIUM, which fills all
+//       space outside the shapes that have an interior (fog filling the scene).
 //   texture NAME image PATH [linear]
 //       a PNG or JPEG image, found as a mesh's PATH is; its 8-bit values are sRGB-encoded
 //       and decoded to linear at load, unless `linear` says they are linear already.
@@ -41,19 +43,43 @@
 //   material NAME dielectric ior N [roughness A]
 //       a glass-like boundary, index N > 0 inside and 1 outside: Mitsuba's `dielectric`
 //       (int_ior N, ext_ior 1), or `roughdielectric` with GGX alpha A.
+//   material NAME boundary
+//       an invisible surface: light passes through unchanged. It is only the border of a
+//       participating medium (below): Mitsuba 3's `null` BSDF.
 //   Only an `albedo` material may have an emission. A program that renders only some
 //   kinds of material says which it met (loadSceneFile's `accepted`).
-//   sphere CX CY CZ RADIUS MATERIAL [name NAME]
+//   medium NAME homogeneous sigma_a R G B sigma_s R G B [g G]
+//       a participating medium of constant density: per metre and per channel, the
+//       absorption coefficient sigma_a >= 0 and the scattering coefficient sigma_s >= 0
+//       (their sum, sigma_t, is the extinction: a ray keeps exp(-sigma_t d) of its
+//       light over d metres); its scattering follows the Henyey-Greenstein phase
+//       function with mean cosine G in (-1, 1), default 0 (the same in every direction).
+//       Mitsuba 3's `homogeneous` medium with sigma_t = sigma_a + sigma_s and albedo
+//       sigma_s / sigma_t, and its `hg` phase function.
+//   medium NAME grid PATH albedo R G B [scale S] [g G]
+//       a medium whose density varies: the densities of a Mitsuba `.vol` grid (one
+//       channel of float32, spanning the file's bounding box in world units), times
+//       S > 0 per metre (default 1), is sigma_t; the albedo R G B in [0, 1] is
+//       sigma_s / sigma_t. Mitsuba 3's `heterogeneous` medium with a `gridvolume`.
+//   A medium fills the inside of the closed shapes that name it (`interior`, below) or,
+//   named by the camera, the space around the camera. Media may be named before the
+//   line that defines them.
+//   sphere CX CY CZ RADIUS MATERIAL [interior MEDIUM] [name NAME]
 //   quad OX OY OZ EX EY EZ FX FY FZ MATERIAL [name NAME]
 //       the parallelogram with corners O, O + E, O + E + F, O + F (two edges from a
 //       corner, so a rectangle needs no fourth corner to agree)
 //   triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
-//   mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
+//   mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [interior MEDIUM]
+//        [name NAME]
 //       an OBJ file, placed in the scene by scaling it by S, turning it about the y axis
 //       by DEGREES (counter-clockwise seen from above), then moving it by X Y Z, in that
 //       order whatever order the options are written in. PATH (no spaces) is relative
 //       to the scene file's folder or, if not found there, to each mesh folder the
 //       program passes in (the build's generated assets); the first that exists wins.
+//   `interior MEDIUM`: the medium inside the shape. Only a sphere or a closed mesh has
+//   an inside (the program that loads a mesh checks that every edge joins two faces),
+//   and only a `boundary` or `dielectric` material lets light in (coloured glass, a
+//   tinted liquid: a dielectric around an absorbing medium).
 //   environment PATH [scale S] [rotate_y DEGREES]
 //       a latitude-longitude radiance map (PFM or OpenEXR), infinitely far: the
 //       background and a light. A direction d has u = atan2(d.x, -d.z) / 2 pi, v =
@@ -90,6 +116,21 @@ struct SceneCamera {
     float sensorWidth = 0.036f;  // metres
     float lensRadius = 0.0f;     // metres; 0: a pinhole
     float focusDistance = 1.0f;  // metres along the view direction, where a lens is sharp
+    int32_t medium = -1;         // the medium around the camera (SceneFile::media), or -1
+};
+
+enum class MediumKind { Homogeneous, Grid };
+
+struct SceneMedium {
+    std::string name;
+    MediumKind kind = MediumKind::Homogeneous;
+    glm::vec3 sigmaA{0.0f}, sigmaS{0.0f};  // homogeneous: per metre, per channel
+    std::string path;                      // grid: absolute, where the .vol file was found
+    std::string writtenPath;               // grid: as written in the scene file
+    glm::vec3 albedo{0.0f};                // grid: sigma_s / sigma_t, per channel
+    float scale = 1.0f;                    // grid: sigma_t per metre at density 1
+    float g = 0.0f;                        // Henyey-Greenstein mean cosine, in (-1, 1)
+    size_t line = 0;
 };
 
 enum class TextureKind { Image, Checker };
@@ -105,7 +146,7 @@ struct SceneTexture {
     size_t line = 0;
 };
 
-enum class MaterialKind { Diffuse, Mirror, Conductor, Dielectric };
+enum class MaterialKind { Diffuse, Mirror, Conductor, Dielectric, Boundary };
 
 struct SceneMaterial {
     std::string name;
@@ -127,6 +168,7 @@ struct SceneSphere {
     glm::vec3 center{0.0f};
     float radius = 1.0f;
     uint32_t material = 0;
+    int32_t interior = -1;  // the medium inside (SceneFile::media), or -1: none
     std::string name;  // optional
 };
 
@@ -149,6 +191,7 @@ struct SceneMesh {
     float scale = 1.0f;
     float rotationYDegrees = 0.0f;
     glm::vec3 translation{0.0f};
+    int32_t interior = -1;  // the medium inside (SceneFile::media), or -1: none
     std::string name;  // optional
     size_t line = 0;   // the `mesh` line, for messages about the OBJ file
 
@@ -170,6 +213,7 @@ struct SceneFile {
     SceneEnvironment environment;
     std::vector<SceneTexture> textures;
     std::vector<SceneMaterial> materials;
+    std::vector<SceneMedium> media;
     std::vector<SceneSphere> spheres;
     std::vector<SceneQuad> quads;
     std::vector<SceneTriangle> triangles;
@@ -196,6 +240,7 @@ struct SceneSupport {
     SceneFeature lens;         // a camera with a lens (lens RADIUS focus DISTANCE)
     SceneFeature textures;     // texture statements and textured materials
     SceneFeature environment;  // an environment light
+    SceneFeature media;        // medium statements, boundary materials, interior, camera medium
 };
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the
@@ -210,7 +255,7 @@ SceneFile parseSceneText(std::string_view text, const std::string& shownPath,
                          const std::vector<std::string>& meshFolders = {},
                          const SceneSupport& support = {});
 
-// "albedo", "mirror", "conductor" or "dielectric": the word the format uses.
+// "albedo", "mirror", "conductor", "dielectric" or "boundary": the word the format uses.
 const char* materialKindWord(MaterialKind kind);
 
 // The scene as text in the format above, with every number written so that it reads

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -17,6 +18,7 @@
 #include "course/error.h"
 #include "course/image_file.h"
 #include "course/scene_file.h"
+#include "course/volume_grid.h"
 
 namespace fs = std::filesystem;
 using course::ExitCode;
@@ -47,6 +49,11 @@ SceneSupport lensAndTextures() {
 SceneSupport everything() {
     SceneSupport support = lensAndTextures();
     support.environment.read = true;
+    return support;
+}
+SceneSupport withMedia() {
+    SceneSupport support = everything();
+    support.media.read = true;
     return support;
 }
 
@@ -338,7 +345,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
         }
         // Every kind of material: chapters 15 and 16 ship metals and glass.
         const SceneFile scene =
-            loadSceneFile(entry.path().string(), {generated.string()}, everything());
+            loadSceneFile(entry.path().string(), {generated.string()}, withMedia());
         // Every scene is lit, by shapes or by its environment (chapter 18); the
         // grader's scene of two lights has two (chapter 12's choice of light).
         EXPECT_TRUE(scene.emitterCount() >= 1u || scene.hasEnvironment());
@@ -346,7 +353,7 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
             EXPECT_EQ(scene.emitterCount(), 2u);
         }
         const SceneFile again = parseSceneText(formatSceneFile(scene), scene.path,
-                                               {generated.string()}, everything());
+                                               {generated.string()}, withMedia());
         expectSameScene(scene, again);
         ++count;
     }
@@ -387,14 +394,14 @@ TEST_F(SceneFileTest, EmptyFile) { EXPECT_EQ(failure(""), at(0, "empty file")); 
 
 TEST_F(SceneFileTest, UnknownKeyword) {
     EXPECT_EQ(failure(kValid + "cylinder 0 0 0 1 lamp\n"),
-              at(4, "unknown keyword 'cylinder' (expected camera, texture, material, sphere, "
-                    "quad, triangle, mesh or environment)"));
+              at(4, "unknown keyword 'cylinder' (expected camera, texture, material, medium, "
+                    "sphere, quad, triangle, mesh or environment)"));
 }
 
 TEST_F(SceneFileTest, WrongNumberOfFields) {
     EXPECT_EQ(failure(kValid + "sphere 0 0 0 lamp\n"),
               at(4, "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally "
-                    "name NAME; got 4"));
+                    "interior MEDIUM and name NAME; got 4"));
     EXPECT_EQ(failure(kValid + "quad 0 0 0 1 0 0 0 1 0 lamp extra\n"),
               at(4, "'quad' needs 10 fields (OX OY OZ EX EY EZ FX FY FZ MATERIAL), then "
                     "optionally name NAME; got 11"));
@@ -408,20 +415,21 @@ TEST_F(SceneFileTest, WrongNumberOfFields) {
                     "NAME conductor eta R G B k R G B, NAME dielectric ior N)"));
     EXPECT_EQ(failure("camera eye 0 0 0 look 0 0 -1 up 0 1 0 focal 1\n"),
               at(1, "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor "
-                    "S, then optionally lens RADIUS focus DISTANCE), got 14"));
+                    "S, then optionally lens RADIUS focus DISTANCE and medium MEDIUM), got 14"));
     EXPECT_EQ(failure(kValid + "mesh x.obj\n"),
               at(4, "'mesh' needs a PATH and a MATERIAL, then optionally scale S, rotate_y "
                     "DEGREES, translate X Y Z, name NAME"));
     EXPECT_EQ(failure(kValid + "sphere 0 0 0 1 lamp label x\n"),
-              at(4, "'sphere' expects 'name' here, got 'label'"));
+              at(4, "'sphere' takes after its 5 fields only interior MEDIUM and name NAME, "
+                    "each once; got 'label'"));
 }
 
 TEST_F(SceneFileTest, WrongLabels) {
     EXPECT_EQ(failure("camera eye 0 0 0 at 0 0 -1 up 0 1 0 focal 1 sensor 1\n"),
               at(1, "'camera' expects 'look' here, got 'at'"));
     EXPECT_EQ(failure(kValid + "material m colour 1 1 1\n"),
-              at(4, "unknown material kind 'colour' (expected albedo, mirror, conductor or "
-                    "dielectric)"));
+              at(4, "unknown material kind 'colour' (expected albedo, mirror, conductor, "
+                    "dielectric or boundary)"));
     EXPECT_EQ(failure(kValid + "material m albedo 1 1 1 glow 1 1 1\n"),
               at(4, "unexpected 'glow' in material 'm' (albedo)"));
 }
@@ -502,8 +510,8 @@ TEST_F(SceneFileTest, MaterialMistakes) {
         return failure(kValid + line + "\n", {}, allMaterials());
     };
     EXPECT_EQ(all("material m metal"),
-              at(4, "unknown material kind 'metal' (expected albedo, mirror, conductor or "
-                    "dielectric)"));
+              at(4, "unknown material kind 'metal' (expected albedo, mirror, conductor, "
+                    "dielectric or boundary)"));
     EXPECT_EQ(all("material m conductor eta 1 1 1 k 1 1 1 roughness -0.1"),
               at(4, "roughness '-0.1' is negative"));
     EXPECT_EQ(all("material m conductor eta 1 0 1 k 1 1 1"), at(4, "eta '0' must be above 0"));
@@ -777,8 +785,8 @@ TEST_F(SceneFileTest, MeshMistakes) {
               at(4, "'translate' needs 3 numbers"));
     EXPECT_EQ(failure(kValid + "mesh m.obj lamp name\n"), at(4, "'name' needs 1 name"));
     EXPECT_EQ(failure(kValid + "mesh m.obj lamp rotate_x 90\n"),
-              at(4, "unknown mesh option 'rotate_x' (expected scale, rotate_y, translate or "
-                    "name)"));
+              at(4, "unknown mesh option 'rotate_x' (expected scale, rotate_y, translate, "
+                    "interior or name)"));
     EXPECT_EQ(failure(kValid + "mesh missing.obj lamp\n", {"/nonexistent/generated"}),
               at(4, "mesh file 'missing.obj' not found (looked for " +
                         (folder_ / "missing.obj").string() +
@@ -813,7 +821,8 @@ TEST_F(SceneFileTest, GarbageNeverCrashes) {
         "camera", "material", "sphere", "quad", "triangle", "mesh", "eye", "look", "up",
         "focal", "sensor", "albedo", "emission", "name", "scale", "rotate_y", "translate",
         "lamp", "0", "1", "-1", "1e3", "nan", "#", "\n", "\n", " ", "\t", "x.obj",
-        "texture", "checker", "image", "lens", "focus"};
+        "texture", "checker", "image", "lens", "focus", "medium", "homogeneous", "grid",
+        "sigma_a", "sigma_s", "g", "interior", "boundary", "fog", "0.5", "smoke.vol"};
     for (int trial = 0; trial < 400; ++trial) {
         std::string text = trial % 4 == 0 ? std::string() : kValid;
         const int length = int(random() % 60);
@@ -824,11 +833,145 @@ TEST_F(SceneFileTest, GarbageNeverCrashes) {
                 text += words[random() % words.size()] + " ";
         }
         try {
-            parseSceneText(text, "garbage.scene");
+            parseSceneText(text, "garbage.scene", {}, withMedia());
         } catch (const course::Failure& error) {
             EXPECT_EQ(error.code(), ExitCode::BadInput);
             EXPECT_EQ(std::string(error.what()).rfind("garbage.scene:", 0), 0u) << error.what();
         }
+    }
+}
+
+// ---------------------------------------------------------------- participating media
+
+// A 2 x 1 x 1 grid of densities 0.25 and 4 in the box [-1, 1] x [0, 1] x [0, 1].
+std::string tinyGrid() {
+    course::VolumeGrid grid;
+    grid.resolution = {2, 1, 1};
+    grid.boxMin = {-1.0f, 0.0f, 0.0f};
+    grid.boxMax = {1.0f, 1.0f, 1.0f};
+    grid.density = {0.25f, 4.0f};
+    const fs::path path = fs::temp_directory_path() / ("tiny_" + std::to_string(getpid()) + ".vol");
+    course::writeVolumeGrid(path.string(), grid);
+    std::ifstream file(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    fs::remove(path);
+    return bytes;
+}
+
+TEST_F(SceneFileTest, MediaAreReadAndWrittenBack) {
+    write("smoke.vol", tinyGrid());
+    write("box.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string text =
+        "camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036 medium fog lens "
+        "0.01 focus 3\n"
+        "medium fog homogeneous sigma_a 0.01 0.02 0.03 sigma_s 0.1 0.2 0.3\n"
+        "medium smoke grid smoke.vol albedo 0.9 0.8 0.7 scale 20 g 0.6\n"
+        "medium ink homogeneous sigma_a 5 1 0.5 sigma_s 0 0 0 g -0.3\n"
+        "material edge boundary\n"
+        "material glass dielectric ior 1.5\n"
+        "material lamp albedo 0 0 0 emission 5 5 5\n"
+        "sphere 0 3 0 0.5 lamp\n"
+        "sphere 0 0 0 1 edge interior smoke name cloud\n"
+        "sphere 2 0 0 1 glass name bauble interior ink\n"
+        "mesh box.obj glass interior ink scale 2\n";
+    const std::string path = (folder_ / "media.scene").string();
+    const SceneFile scene = parseSceneText(text, path, {}, withMedia());
+    ASSERT_EQ(scene.media.size(), 3u);
+    EXPECT_EQ(scene.camera.medium, 0);
+    EXPECT_EQ(scene.camera.lensRadius, 0.01f);
+    expectSameVector(scene.media[0].sigmaA, {0.01f, 0.02f, 0.03f});
+    expectSameVector(scene.media[0].sigmaS, {0.1f, 0.2f, 0.3f});
+    EXPECT_EQ(scene.media[0].g, 0.0f);
+    EXPECT_EQ(scene.media[1].kind, course::MediumKind::Grid);
+    EXPECT_EQ(scene.media[1].path, (folder_ / "smoke.vol").string());
+    EXPECT_EQ(scene.media[1].scale, 20.0f);
+    EXPECT_EQ(scene.media[1].g, 0.6f);
+    EXPECT_EQ(scene.media[2].g, -0.3f);
+    EXPECT_EQ(scene.materials[0].kind, MaterialKind::Boundary);
+    EXPECT_EQ(scene.spheres[0].interior, -1);
+    EXPECT_EQ(scene.spheres[1].interior, 1);
+    EXPECT_EQ(scene.spheres[1].name, "cloud");
+    EXPECT_EQ(scene.spheres[2].interior, 2);
+    EXPECT_EQ(scene.meshes[0].interior, 2);
+    EXPECT_EQ(scene.meshes[0].scale, 2.0f);
+    const std::string formatted = formatSceneFile(scene);
+    const SceneFile again = parseSceneText(formatted, path, {}, withMedia());
+    EXPECT_EQ(formatSceneFile(again), formatted);
+    EXPECT_EQ(again.camera.medium, 0);
+    EXPECT_EQ(again.spheres[1].interior, 1);
+    EXPECT_EQ(again.meshes[0].interior, 2);
+    EXPECT_EQ(again.media[1].albedo, scene.media[1].albedo);
+}
+
+TEST_F(SceneFileTest, MediumMistakesAreExit3AtTheirLine) {
+    write("smoke.vol", tinyGrid());
+    write("short.vol", tinyGrid().substr(0, 50));
+    write("text.vol", "not a grid at all, but long enough to have a header of 48 bytes...");
+    auto bad = [this](const std::string& lines) {
+        return failure(kValid + lines + "\n", {}, withMedia());
+    };
+    const std::string fog = "medium fog homogeneous sigma_a 0 0 0 sigma_s 1 1 1";
+    EXPECT_EQ(bad("material e boundary\nsphere 0 0 0 1 e interior mist"),
+              at(5, "medium 'mist' is not defined"));
+    EXPECT_EQ(bad("medium fog homogeneous sigma_a 0 -1 0 sigma_s 1 1 1"),
+              at(4, "sigma_a '-1' is negative"));
+    EXPECT_EQ(bad(fog + " g 1"),
+              at(4, "g '1' must lie strictly between -1 and 1 (the phase function's mean "
+                    "cosine)"));
+    EXPECT_EQ(bad(fog + " g -1.5"),
+              at(4, "g '-1.5' must lie strictly between -1 and 1 (the phase function's mean "
+                    "cosine)"));
+    EXPECT_EQ(bad(fog + " scale 2"),
+              at(4, "unexpected 'scale' in medium 'fog' (after sigma_s: g G)"));
+    EXPECT_EQ(bad(fog + "\n" + fog),
+              at(5, "medium 'fog' is already defined on line 4"));
+    EXPECT_EQ(bad("medium fog cloudy 1"),
+              at(4, "unknown medium kind 'cloudy' (expected homogeneous or grid)"));
+    EXPECT_EQ(bad(fog + "\nmaterial w albedo 1 1 1\nsphere 0 0 0 1 w interior fog"),
+              at(6, "an interior medium needs a surface light passes through, a 'boundary' "
+                    "or 'dielectric' material; 'w' is albedo"));
+    EXPECT_EQ(bad("medium s grid nowhere.vol albedo 1 1 1"),
+              at(4, "grid file 'nowhere.vol' not found (looked for " +
+                        (folder_ / "nowhere.vol").string() + ")"));
+    EXPECT_EQ(bad("medium s grid short.vol albedo 1 1 1"),
+              at(4, "grid 'short.vol' (" + (folder_ / "short.vol").string() +
+                        "): 50 bytes, where its header promises 56"));
+    EXPECT_EQ(bad("medium s grid text.vol albedo 1 1 1"),
+              at(4, "grid 'text.vol' (" + (folder_ / "text.vol").string() +
+                        "): not a .vol grid (no 'VOL' at its start)"));
+    EXPECT_EQ(bad("medium s grid smoke.vol albedo 1 2 1"),
+              at(4, "albedo '2' is outside [0, 1]: a surface cannot reflect more light than "
+                    "reaches it"));
+    EXPECT_EQ(bad("medium s grid smoke.vol albedo 1 1 1 scale 0"),
+              at(4, "the grid's scale '0' must be positive"));
+    EXPECT_EQ(failure("camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036 "
+                      "medium fog medium fog\n", {}, withMedia()),
+              at(1, "unexpected 'medium' in 'camera' (after the sensor: lens RADIUS focus "
+                    "DISTANCE, medium MEDIUM, each once)"));
+    // A program that renders no media says so at the first line that needs them.
+    EXPECT_EQ(failure(kValid + "material e boundary\n" + fog + "\n", {}, everything()),
+              at(4, "this program renders no participating media (medium statements, "
+                    "boundary materials)"));
+}
+
+TEST_F(SceneFileTest, AVolumeGridReadsBackAsWritten) {
+    write("smoke.vol", tinyGrid());
+    const course::VolumeGrid grid = course::readVolumeGrid((folder_ / "smoke.vol").string());
+    EXPECT_EQ(grid.resolution, glm::ivec3(2, 1, 1));
+    expectSameVector(grid.boxMin, {-1.0f, 0.0f, 0.0f});
+    expectSameVector(grid.boxMax, {1.0f, 1.0f, 1.0f});
+    EXPECT_EQ(grid.at(0, 0, 0), 0.25f);
+    EXPECT_EQ(grid.at(1, 0, 0), 4.0f);
+    std::string negative = tinyGrid();
+    const float minusOne = -1.0f;
+    std::memcpy(negative.data() + 48, &minusOne, 4);
+    write("negative.vol", negative);
+    try {
+        course::readVolumeGrid((folder_ / "negative.vol").string());
+        ADD_FAILURE() << "read a negative density";
+    } catch (const course::Failure& error) {
+        EXPECT_EQ(error.code(), ExitCode::BadInput);
+        EXPECT_NE(std::string(error.what()).find("density 0 is negative"), std::string::npos);
     }
 }
 

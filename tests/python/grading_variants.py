@@ -823,3 +823,38 @@ CHAPTER_23 = [
 ]
 
 CATALOGUE["23"] = CHAPTER_23
+
+
+# ---------------------------------------------------------------- chapter 24
+
+M = "24_participating_media"
+CHANNEL = "    int channel = min(int(u.x * 3.0), 2);\n"
+MEAN_DENSITY = "    float pdf = (density.r + density.g + density.b) / 3.0;\n"
+HG_COSINE = "        cosTheta = (1.0 + g * g - s * s) / (2.0 * g);\n"
+
+CHAPTER_24 = [
+    Variant(M, "the channel picked from the end of the random number", True, (
+        Edit("shaders/media.glsl", CHANNEL, "    int channel = min(int((1.0 - u.x) * 3.0), 2);\n"),)),
+    Variant(M, "the distance drawn from u rather than 1 - u", True, (
+        Edit("shaders/media.glsl",
+             "-log(1.0 - u.y) / extinction[channel]", "-log(max(u.y, 1e-30)) / extinction[channel]"),)),
+    Variant(M, "Henyey-Greenstein sampled with 1 - u", True, (
+        Edit("shaders/media.glsl", "        float s = (1.0 - g * g) / (1.0 + g - 2.0 * g * u.x);\n",
+             "        float s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u.x);\n"),)),
+
+    Variant(M, "the distance's density of one channel (green) for all three", False, (
+        Edit("shaders/media.glsl", MEAN_DENSITY, "    float pdf = density.g;\n"),)),
+    Variant(M, "always red's distance, divided by the mean density", False, (
+        Edit("shaders/media.glsl", CHANNEL, "    int channel = 0;\n"),)),
+    Variant(M, "scattering weighted by sigma_t instead of sigma_s", False, (
+        Edit("shaders/media.glsl",
+             "    vec3 kept = flight.scattered ? medium.sigmaS * transmittance : transmittance;\n",
+             "    vec3 kept = flight.scattered ? extinction * transmittance : transmittance;\n"),)),
+    Variant(M, "Henyey-Greenstein sampled with g of the other sign", False, (
+        Edit("shaders/media.glsl", HG_COSINE,
+             "        cosTheta = -(1.0 + g * g - s * s) / (2.0 * g);\n"),)),
+    Variant(M, "every scattering uniform over the sphere, whatever g", False, (
+        Edit("shaders/media.glsl", HG_COSINE, "        cosTheta = 1.0 - 2.0 * u.x;\n"),)),
+]
+
+CATALOGUE["24"] = CHAPTER_24

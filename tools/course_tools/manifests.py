@@ -31,7 +31,7 @@ from pathlib import Path
 FOLDER = "manifests"
 # What a scene reader may accept besides diffuse shapes and a pinhole camera, as
 # cmake/SceneSupport.cmake and common/course/scene_file.h's SceneSupport name them.
-SCENE_FEATURES = ("metals", "glass", "lens", "textures", "environment")
+SCENE_FEATURES = ("metals", "glass", "lens", "textures", "environment", "media")
 
 
 class ManifestError(Exception):

@@ -104,13 +104,14 @@ def test_reads_every_statement(tmp_path):
 MISTAKES = [
     ("", 0, "empty file"),
     (VALID + "cylinder 0 0 0 1 lamp\n", 4,
-     "unknown keyword 'cylinder' (expected camera, texture, material, sphere, quad, "
-     "triangle, mesh or environment)"),
+     "unknown keyword 'cylinder' (expected camera, texture, material, medium, sphere, "
+     "quad, triangle, mesh or environment)"),
     (VALID + "sphere 0 0 0 lamp\n", 4,
-     "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally name NAME; got 4"),
+     "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally interior MEDIUM "
+     "and name NAME; got 4"),
     (VALID + "material m albedo 1 1\n", 4, "albedo needs three numbers R G B"),
     (VALID + "material m metal\n", 4, "unknown material kind 'metal' (expected albedo, "
-     "mirror, conductor or dielectric)"),
+     "mirror, conductor, dielectric or boundary)"),
     (VALID + "material m conductor eta 1 1 1 k 1 1 1 roughness -0.1\n", 4,
      "roughness '-0.1' is negative"),
     (VALID + "material m dielectric ior 0\n", 4, "ior '0' must be above 0"),
@@ -143,7 +144,8 @@ MISTAKES = [
      "no emitter: no shape uses a material with an emission"),
     (VALID + "sphere 0 0 0 1 lamp\0\n", 4,
      "binary data (a control byte) in what should be a text file"),
-    (VALID + "sphere 0 0 0 1 lamp label x\n", 4, "'sphere' expects 'name' here, got 'label'"),
+    (VALID + "sphere 0 0 0 1 lamp label x\n", 4, "'sphere' takes after its 5 fields only interior MEDIUM and name NAME, each once; "
+     "got 'label'"),
     (VALID + "mesh\n", 4, "'mesh' needs a PATH and a MATERIAL, then optionally scale S, "
                           "rotate_y DEGREES, translate X Y Z, name NAME"),
 ]
@@ -286,14 +288,15 @@ def test_lens_zero_is_the_pinhole(tmp_path):
 
 TEXTURE_MISTAKES = [
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01"), 1,
-     "'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F sensor S, then "
-     "optionally lens RADIUS focus DISTANCE), got 18"),
+     "unexpected 'lens' in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
+     "medium MEDIUM, each once)"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens -0.01 focus 2"), 1,
      "the lens radius '-0.01' must be 0 or more"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 focus 0"), 1,
      "the focus distance '0' must be positive"),
     (VALID.replace("sensor 0.036", "sensor 0.036 aperture 0.01 focus 2"), 1,
-     "'camera' expects 'lens' here, got 'aperture'"),
+     "unexpected 'aperture' in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
+     "medium MEDIUM, each once)"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 distance 2"), 1,
      "'camera' expects 'focus' here, got 'distance'"),
     (VALID + "texture t\n", 4, "'texture' needs a name and a kind (NAME image PATH "

@@ -40,16 +40,23 @@ def test_strip_keeps_hint_and_stub():
 
 
 def test_a_check_that_plants_a_solution_line_is_left_out_of_the_starter():
-    """Both ways of planting a mistake: str.replace and path_checks.shaders_with_bug."""
+    """Both ways of planting a mistake: str.replace and path_checks.shaders_with_bug,
+    also through the test file's own helpers, however deep."""
     solution, starter = "hit = a >= 0.0;\nreturn hit;", "return false;"
     test = ('import path_checks\nRIGHT = "hit = a >= 0.0;"\n\n'
             'def test_replaced():\n    text = "".replace(RIGHT, "hit = true;")\n\n'
             'def test_planted():\n'
             '    path_checks.shaders_with_bug("10", None, ("s.glsl", RIGHT, "x"))\n\n'
+            'def shaders_with(bug=None):\n'
+            '    return path_checks.shaders_with_bug("10", None, bug)\n\n'
+            'def render(bug=None):\n    return shaders_with(bug)\n\n'
+            'def test_planted_through_helpers():\n    render(("s.glsl", RIGHT, "x"))\n\n'
+            'def test_helpers_without_a_plant():\n    render()\n\n'
             'def test_kept():\n    assert "return false;"\n')
     kept = classroom.without_planted_mistakes(test, solution, starter)
     assert "def test_kept" in kept and "a >= 0.0" not in kept
     assert "test_replaced" not in kept and "test_planted" not in kept
+    assert "test_helpers_without_a_plant" in kept and "def render" in kept
 
 
 def released_chapters():

@@ -134,12 +134,16 @@ def render_book_figures(draft: bool = False):
 
 def book_diff_pairs() -> list[tuple[str, str]]:
     """(from, to) of every diff the book includes: each numbered chapter against the
-    one before it, each appendix against the chapter it was copied from (its manifest's
-    `base`, not whatever comes before it in CMakeLists.txt)."""
+    one before it, or against the one it branches from (its manifest's `base`), and
+    each appendix against the chapter it was copied from (its `base`, not whatever
+    comes before it in CMakeLists.txt)."""
     manifests = chapter_manifests()
     numbered = [name for name in manifests if name[:2].isdigit()]
-    pairs = list(zip(numbered, numbered[1:]))
-    return pairs + [(m.base, name) for name, m in manifests.items() if m.base]
+    # A numbered chapter with a base branches from it (chapter 24 from 18).
+    pairs = [(manifests[name].base or before, name)
+             for before, name in zip(numbered, numbered[1:])]
+    return pairs + [(m.base, name) for name, m in manifests.items()
+                    if m.base and not name[:2].isdigit()]
 
 
 def cmd_book(args):

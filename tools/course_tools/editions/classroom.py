@@ -136,11 +136,20 @@ def without_planted_mistakes(test: str, solution: str, starter: str) -> str:
         if isinstance(node, ast.Assign) and len(node.targets) == 1 \
                 and isinstance(node.targets[0], ast.Name):
             constants[node.targets[0].id] = node
-    def plants(node) -> bool:  # calls something.replace(...) or shaders_with_bug(...)
-        def name(call):
-            return getattr(call.func, "attr", getattr(call.func, "id", None))
-        return any(isinstance(n, ast.Call) and name(n) in PLANTING_CALLS
-                   for n in ast.walk(node))
+    def called(node) -> set[str]:
+        return {getattr(n.func, "attr", getattr(n.func, "id", None))
+                for n in ast.walk(node) if isinstance(n, ast.Call)}
+
+    # The file's own helpers that plant (a shaders_with(tmp_path, bug) around
+    # shaders_with_bug), however deep, plant too.
+    functions = {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}
+    planting = set(PLANTING_CALLS)
+    while grown := {name for name, node in functions.items()
+                    if name not in planting and called(node) & planting}:
+        planting |= grown
+
+    def plants(node) -> bool:  # calls something.replace(...), shaders_with_bug(...) or a helper
+        return bool(called(node) & planting)
 
     cut = []
     for node in tree.body:

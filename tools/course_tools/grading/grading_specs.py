@@ -374,6 +374,19 @@ SPECS: dict[str, list[GradeTest]] = {
     # writes is the pass's end: the pixel's state from the previous pass's textures,
     # one more sample, the new state to this pass's outputs. Graded by statistics, as
     # chapter 12: a generator that restarts every pass is caught by its noise.
+    # Chapter 24's exercises are the free flight (where a ray in a medium scatters, and
+    # its weight) and the Henyey-Greenstein sampler. The smoke ball shows both: its
+    # direct light (one scattering, the free flight alone), then the whole path (the
+    # phase function's direction at every scattering); the fog, after the due date.
+    "24": [
+        GradeTest("the smoke ball, direct light", 4,
+                  [*TINY, "--scene", "cornell_smoke", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the smoke ball", 3, [*TINY, "--scene", "cornell_smoke"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the fog", 3, TINY, "statistical", "after_due_date",
+                  sampling=PATH_SAMPLING),
+    ],
     "A1": [
         GradeTest("Cornell box, direct light", 3, [*TINY, "--direct"], "statistical",
                   sampling=PATH_SAMPLING),
