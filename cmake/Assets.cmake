@@ -104,8 +104,21 @@ foreach(map sky spots)
   list(APPEND _course_environment_files "${_course_map}")
 endforeach()
 
+# Chapter 25's density grid, by python_prototypes/volumes.py with numpy alone (written
+# under a temporary name and renamed):
+#   volumes/cloud.vol   48^3 cells of a cumulus-like cloud in Mitsuba's .vol format
+set(_course_volumes_script "${CMAKE_SOURCE_DIR}/python_prototypes/volumes.py")
+set(_course_cloud "${COURSE_GENERATED_ASSET_DIR}/volumes/cloud.vol")
+add_custom_command(
+  OUTPUT "${_course_cloud}"
+  COMMAND ${CMAKE_COMMAND} -E make_directory "${COURSE_GENERATED_ASSET_DIR}/volumes"
+  COMMAND ${Python3_EXECUTABLE} "${_course_volumes_script}" --out "${_course_cloud}"
+  DEPENDS "${_course_volumes_script}"
+  COMMENT "Making the density grid: volumes/cloud.vol"
+  VERBATIM)
+
 add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files}
-                  ${_course_texture_files} ${_course_environment_files})
+                  ${_course_texture_files} ${_course_environment_files} "${_course_cloud}")
 
 set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_102080 40)
