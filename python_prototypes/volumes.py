@@ -10,7 +10,8 @@ cell of the box's faces the nearest face's values hold (clamped, as Mitsuba's de
 wrap mode); outside the box the course's grid is empty, so the generated cloud keeps
 its outermost cells at 0 and both readings agree.
 
-    python -m python_prototypes.volumes --out cloud.vol     # the build's cloud
+    python python_prototypes/volumes.py --out cloud.vol                      # the cloud
+    python python_prototypes/volumes.py --which checker --out checker.vol    # the grader's
 """
 from __future__ import annotations
 
@@ -148,12 +149,23 @@ def cloud(resolution: int = 48, seed: int = 7) -> Grid:
     return Grid(density.astype(np.float32), box_min, box_max)
 
 
+def checker() -> Grid:
+    """A 4 x 4 x 4 checkerboard of densities 1 and 0.15 inside an empty outer layer of
+    cells (6 x 6 x 6 in all), in a box 0.8 m wide about (0, -0.25, 0): coarse cells
+    whose edges trilinear interpolation blurs and a nearest-cell lookup would not (the
+    grader's scene for chapter 25)."""
+    density = np.zeros((6, 6, 6), np.float32)
+    z, y, x = np.indices((4, 4, 4))
+    density[1:5, 1:5, 1:5] = np.where((x + y + z) % 2 == 0, 1.0, 0.15)
+    return Grid(density, np.array([-0.4, -0.65, -0.4]), np.array([0.4, 0.15, 0.4]))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, required=True)
-    parser.add_argument("--resolution", type=int, default=48)
+    parser.add_argument("--which", choices=("cloud", "checker"), default="cloud")
     args = parser.parse_args(argv)
-    write_vol(args.out, cloud(args.resolution))
+    write_vol(args.out, cloud() if args.which == "cloud" else checker())
 
 
 if __name__ == "__main__":

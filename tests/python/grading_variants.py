@@ -863,7 +863,8 @@ CATALOGUE["24"] = CHAPTER_24
 # ---------------------------------------------------------------- chapter 25
 
 M = "25_grid_media"
-STEP = "        t -= log(1.0 - random01(random)) / medium.majorant;\n"
+STEP = ("        t -= log(1.0 - random01(random)) / medium.majorant;\n"
+        "        if (t >= far) return flight;\n")  # delta tracking's, not ratio tracking's
 REAL_COLLISION = "        if (random01(random) * medium.majorant < sigmaT) {\n"
 SIGMA_T = ("        float sigmaT = medium.scale * densityAt(medium, ray.origin + t * ray.direction);\n")
 LAST_MIX = "    return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);\n"
@@ -885,7 +886,8 @@ CHAPTER_25 = [
              "    return gridValue(medium, clamp(ivec3(floor(cells + 0.5)), ivec3(0), last));\n"),)),
     Variant(M, "a majorant half the densest sigma_t", False, (
         Edit("shaders/grid.glsl", STEP,
-             "        t -= log(1.0 - random01(random)) / (0.5 * medium.majorant);\n"),
+             "        t -= log(1.0 - random01(random)) / (0.5 * medium.majorant);\n"
+             "        if (t >= far) return flight;\n"),
         Edit("shaders/grid.glsl", REAL_COLLISION,
              "        if (random01(random) * 0.5 * medium.majorant < sigmaT) {\n"))),
     Variant(M, "the density without the scale", False, (

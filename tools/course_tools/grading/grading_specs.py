@@ -384,16 +384,17 @@ SPECS: dict[str, list[GradeTest]] = {
                   sampling=PATH_SAMPLING),
     ],
     # Chapter 25's exercises are the trilinear lookup, delta tracking (where a ray in a
-    # grid scatters) and ratio tracking (what a shadow ray through it keeps). The
-    # cloud's direct light shows all three (camera rays tracked to their first
-    # scattering, shadow rays to the lamp); the whole path, then a shorter one after
-    # the due date.
+    # grid scatters) and ratio tracking (what a shadow ray through it keeps). A coarse
+    # checkerboard of density seen close up shows all three in its direct light (its
+    # cells' blurred edges, camera rays tracked to their first scattering, shadow rays
+    # to the lamp); the cloud's whole path; the checkerboard's after the due date.
     "25": [
-        GradeTest("the cloud, direct light", 4, [*TINY, "--direct"], "statistical",
+        GradeTest("the checkered grid, direct light", 4,
+                  [*TINY, "--scene", "grid_checker", "--direct"], "statistical",
                   sampling=PATH_SAMPLING),
         GradeTest("the cloud", 3, TINY, "statistical", sampling=PATH_SAMPLING),
-        GradeTest("the cloud, three bounces", 3, [*TINY, "--depth", "3"], "statistical",
-                  "after_due_date", sampling=PATH_SAMPLING),
+        GradeTest("the checkered grid", 3, [*TINY, "--scene", "grid_checker"],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
     # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
     # writes is the pass's end: the pixel's state from the previous pass's textures,
