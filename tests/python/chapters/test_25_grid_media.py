@@ -8,8 +8,8 @@ homogeneous medium it must reduce to, and Mitsuba 3's volumetric path tracer
   Camera rays cross it by delta tracking, which keeps a ray with the chance of no real
   collision: each pixel's mean is the wall's radiance times exp(-optical depth), the
   integral of scale x the trilinear density along the pixel's rays (numpy, 4 x 4 rays a
-  pixel, at the centres of its sixteenths). The trilinear lookup and the tracking are both in it; a majorant half the
-  grid's densest point fails it.
+  pixel, at the centres of its sixteenths). The trilinear lookup and the tracking are
+  both in it; a majorant half the grid's densest point fails it.
 - A grid of one density everywhere is the homogeneous medium of chapter 24 with the
   same coefficients: the same picture within the noise, lit through ratio-tracked
   shadow rays; a ratio tracking that keeps exp(-sigma_t / majorant) at each step fails.
