@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         course::SceneSupport everything;  // every statement read
         for (course::SceneFeature* feature : {&everything.metals, &everything.glass,
                                               &everything.lens, &everything.textures,
-                                              &everything.environment})
+                                              &everything.environment, &everything.media})
             feature->read = true;
         course::SceneFile scene =
             course::parseSceneText(text, "/fuzz/input.scene", {}, everything);

@@ -218,6 +218,8 @@ def fuzz_seeds(target: str) -> list[Path]:
     if target == "fuzz_scene_file":
         return sorted((ROOT / "assets" / "scenes").glob("*.scene")) + \
             [ROOT / "tests" / "data" / "scenes" / "materials.scene"]
+    if target == "fuzz_volume_grid":
+        return [ROOT / "tests" / "fuzz" / "seeds" / "small.vol"]
     return []
 
 
