@@ -104,8 +104,28 @@ foreach(map sky spots)
   list(APPEND _course_environment_files "${_course_map}")
 endforeach()
 
+# Chapter 25's density grids, by python_prototypes/volumes.py with numpy alone (written
+# under a temporary name and renamed), in Mitsuba's .vol format:
+#   volumes/cloud.vol     48^3 cells of a cumulus-like cloud (cornell_cloud.scene)
+#   volumes/checker.vol   a 4^3 checkerboard of densities in an empty layer (the grader's)
+set(_course_volumes_script "${CMAKE_SOURCE_DIR}/python_prototypes/volumes.py")
+set(_course_volume_files "")
+foreach(grid cloud checker)
+  set(_course_grid "${COURSE_GENERATED_ASSET_DIR}/volumes/${grid}.vol")
+  add_custom_command(
+    OUTPUT "${_course_grid}"
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${COURSE_GENERATED_ASSET_DIR}/volumes"
+    COMMAND ${Python3_EXECUTABLE} "${_course_volumes_script}" --which ${grid}
+            --out "${_course_grid}"
+    DEPENDS "${_course_volumes_script}"
+    COMMENT "Making the density grid: volumes/${grid}.vol"
+    VERBATIM)
+  list(APPEND _course_volume_files "${_course_grid}")
+endforeach()
+
 add_custom_target(course_assets ALL DEPENDS ${COURSE_TEAPOT_FILES} ${_course_gem_files}
-                  ${_course_texture_files} ${_course_environment_files})
+                  ${_course_texture_files} ${_course_environment_files}
+                  ${_course_volume_files})
 
 set(COURSE_TEAPOT_FILES "")
 course_teapot(teapot_102080 40)

@@ -169,8 +169,16 @@ def mitsuba_bsdf(material: scene_io.Material, textures: dict | None = None) -> d
 
 
 def mitsuba_medium(medium: scene_io.Medium) -> dict:
-    """A homogeneous medium in Mitsuba 3's words: sigma_t = sigma_a + sigma_s and the
-    albedo sigma_s / sigma_t (any value where sigma_t is 0), with an `hg` phase."""
+    """A medium in Mitsuba 3's words, with an `hg` phase. Homogeneous: sigma_t = sigma_a
+    + sigma_s and the albedo sigma_s / sigma_t (any value where sigma_t is 0). A grid:
+    `heterogeneous`, its sigma_t the same .vol file over the box the file gives
+    (use_grid_bbox) times the scale, its albedo constant."""
+    if medium.kind == "grid":
+        return {"type": "heterogeneous",
+                "sigma_t": {"type": "gridvolume", "filename": str(medium.path),
+                            "use_grid_bbox": True},
+                "albedo": {"type": "constvolume", "value": rgb(list(medium.albedo))},
+                "scale": medium.scale, "phase": {"type": "hg", "g": medium.g}}
     sigma_t = np.add(medium.sigma_a, medium.sigma_s)
     albedo = np.divide(medium.sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
     # Mitsuba reads an RGB value as a reflectance, in [0, 1]: sigma_t goes in as its

@@ -16,7 +16,8 @@ void addMedia(const course::SceneFile& scene, gpu::PathParameters& parameters) {
         if (medium.kind != course::MediumKind::Homogeneous)
             course::failAtLine(scene.path, medium.line,
                                "medium " + course::inQuotes(medium.name) +
-                                   " is a grid: this program renders homogeneous media only");
+                                   " is a grid: this program renders homogeneous media only; grids "
+                                   "come in chapter 25");
         parameters.media[i] = {medium.sigmaA, medium.g, medium.sigmaS, 0.0f};
     }
     parameters.mediumCount = uint32_t(scene.media.size());

@@ -858,3 +858,48 @@ CHAPTER_24 = [
 ]
 
 CATALOGUE["24"] = CHAPTER_24
+
+
+# ---------------------------------------------------------------- chapter 25
+
+M = "25_grid_media"
+STEP = ("        t -= log(1.0 - random01(random)) / medium.majorant;\n"
+        "        if (t >= far) return flight;\n")  # delta tracking's, not ratio tracking's
+REAL_COLLISION = "        if (random01(random) * medium.majorant < sigmaT) {\n"
+SIGMA_T = ("        float sigmaT = medium.scale * densityAt(medium, ray.origin + t * ray.direction);\n")
+LAST_MIX = "    return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);\n"
+
+CHAPTER_25 = [
+    Variant(M, "the corners mixed along z first, then y, then x", True, (
+        Edit("shaders/grid.glsl", LAST_MIX,
+             "    float z00 = mix(x00, x01, f.z), z10 = mix(x10, x11, f.z);\n"
+             "    return mix(z00, z10, f.y);\n"),)),
+    Variant(M, "a real collision when u < sigma_t / majorant", True, (
+        Edit("shaders/grid.glsl", REAL_COLLISION,
+             "        if (random01(random) < sigmaT / medium.majorant) {\n"),)),
+    Variant(M, "steps drawn from u rather than 1 - u", True, (
+        Edit("shaders/grid.glsl", "log(1.0 - random01(random))",
+             "log(max(random01(random), 1e-30))", count=2),)),
+
+    Variant(M, "the nearest cell's density, no interpolation", False, (
+        Edit("shaders/grid.glsl", LAST_MIX,
+             "    return gridValue(medium, clamp(ivec3(floor(cells + 0.5)), ivec3(0), last));\n"),)),
+    Variant(M, "a majorant half the densest sigma_t", False, (
+        Edit("shaders/grid.glsl", STEP,
+             "        t -= log(1.0 - random01(random)) / (0.5 * medium.majorant);\n"
+             "        if (t >= far) return flight;\n"),
+        Edit("shaders/grid.glsl", REAL_COLLISION,
+             "        if (random01(random) * 0.5 * medium.majorant < sigmaT) {\n"))),
+    Variant(M, "the density without the scale", False, (
+        Edit("shaders/grid.glsl", SIGMA_T,
+             "        float sigmaT = densityAt(medium, ray.origin + t * ray.direction);\n",
+             count=2),)),
+    Variant(M, "ratio tracking keeping exp(-sigma_t / majorant) a step", False, (
+        Edit("shaders/grid.glsl", "        kept *= 1.0 - sigmaT / medium.majorant;\n",
+             "        kept *= exp(-sigmaT / medium.majorant);\n"),)),
+    Variant(M, "shadow rays by delta tracking: all or nothing (noisier, unbiased)", True, (
+        Edit("shaders/grid.glsl", "        kept *= 1.0 - sigmaT / medium.majorant;\n",
+             "        if (random01(random) * medium.majorant < sigmaT) return 0.0;\n"),)),
+]
+
+CATALOGUE["25"] = CHAPTER_25

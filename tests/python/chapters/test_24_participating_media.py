@@ -348,7 +348,8 @@ def tiny_grid(path):
 
 @pytest.mark.parametrize("lines, line, said", [
     ("medium smoke grid tiny.vol albedo 1 1 1\n", 3,
-     "medium 'smoke' is a grid: this program renders homogeneous media only"),
+     "medium 'smoke' is a grid: this program renders homogeneous media only; grids come "
+     "in chapter 25"),
     ("".join(f"medium m{i} homogeneous sigma_a 0 0 0 sigma_s 1 1 1\n" for i in range(9)),
      11, "more than 8 media: this program's table holds 8"),
     ("medium fog homogeneous sigma_a 0 0 0 sigma_s 1 1 1\n"

@@ -264,7 +264,7 @@ CATALOGUES = {"09": "09_random_numbers", "10": "10_scenes", "11": "11_path_traci
               "13": "13_bvh", "14": "14_bvh_sah", "15": "15_metals",
               "16": "16_glass", "17": "17_lens_textures", "18": "18_environment",
               "22": "22_path_regeneration", "23": "23_wavefront",
-              "24": "24_participating_media",
+              "24": "24_participating_media", "25": "25_grid_media",
               "A1": "A1_fragment_passes", "A2": "A2_gl33_fragment"}
 VARIANTS = [v for number, chapter in CATALOGUES.items()
             for v in (grading_variants.solution(chapter), *grading_variants.CATALOGUE[number])]

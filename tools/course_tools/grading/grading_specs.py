@@ -370,10 +370,6 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the sky showcase, through the wavefront", 3, [*TINY, *WAVEFRONT],
                   "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
-    # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
-    # writes is the pass's end: the pixel's state from the previous pass's textures,
-    # one more sample, the new state to this pass's outputs. Graded by statistics, as
-    # chapter 12: a generator that restarts every pass is caught by its noise.
     # Chapter 24's exercises are the free flight (where a ray in a medium scatters, and
     # its weight) and the Henyey-Greenstein sampler. The smoke ball shows both: its
     # direct light (one scattering, the free flight alone), then the whole path (the
@@ -387,6 +383,23 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the fog", 3, TINY, "statistical", "after_due_date",
                   sampling=PATH_SAMPLING),
     ],
+    # Chapter 25's exercises are the trilinear lookup, delta tracking (where a ray in a
+    # grid scatters) and ratio tracking (what a shadow ray through it keeps). A coarse
+    # checkerboard of density seen close up shows all three in its direct light (its
+    # cells' blurred edges, camera rays tracked to their first scattering, shadow rays
+    # to the lamp); the cloud's whole path; the checkerboard's after the due date.
+    "25": [
+        GradeTest("the checkered grid, direct light", 4,
+                  [*TINY, "--scene", "grid_checker", "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the cloud", 3, TINY, "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the checkered grid", 3, [*TINY, "--scene", "grid_checker"],
+                  "statistical", "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
+    # writes is the pass's end: the pixel's state from the previous pass's textures,
+    # one more sample, the new state to this pass's outputs. Graded by statistics, as
+    # chapter 12: a generator that restarts every pass is caught by its noise.
     "A1": [
         GradeTest("Cornell box, direct light", 3, [*TINY, "--direct"], "statistical",
                   sampling=PATH_SAMPLING),
