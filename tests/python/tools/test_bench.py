@@ -441,3 +441,12 @@ def test_the_wavefront_bench_writes_each_chapters_page_only_when_asked(tiny_wave
         in wavefront
     block = regeneration.split("<!-- regeneration:start -->")[1].split("<!-- regeneration:end -->")[0]
     assert "wavefront" not in block
+
+
+def test_a_programs_statistics_are_its_last_json_line():
+    from course_tools.program_output import last_json_line
+    printed = "course: compiling\n{\"not\": \"this\"}\n{\"rays\": 12, \"renderer\": \"x\"}\n\n"
+    assert last_json_line(printed) == {"rays": 12, "renderer": "x"}
+    for nothing in ("", "course: it crashed\n", "[1, 2]\n"):
+        with pytest.raises(ValueError, match="chapter 07 printed no JSON statistics"):
+            last_json_line(nothing, "chapter 07")

@@ -29,6 +29,7 @@ from pathlib import Path
 
 from course_tools.bench import common as bench_common
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 
 PAGE = ROOT / "book" / "docs" / "benchmarks.md"
 FIGURE = ROOT / "book" / "docs" / "figures" / "bvh_scaling.png"
@@ -51,7 +52,7 @@ def loop_limit(binary: Path) -> str:
                             capture_output=True, text=True)
     if result.returncode != 0:
         raise SystemExit(f"{binary} --probe-loop-limit failed:\n{result.stderr}")
-    limit = json.loads(result.stdout.strip().splitlines()[-1])["loop_limit"]
+    limit = last_json_line(result.stdout, str(binary))["loop_limit"]
     return "none" if limit == "none" else f"{limit:,.0f}".replace(",", " ")
 
 ROOM = ROOT / "assets" / "scenes" / "cornell_room.scene"
@@ -85,7 +86,7 @@ def run(binary: Path, mesh: Path, rays: str, method: str, repeat: int) -> list |
             raise SystemExit(f"{' '.join(command)} failed ({result.returncode}):\n"
                              f"{result.stderr}")
         if attempt > 0:
-            timed.append(json.loads(result.stdout.strip().splitlines()[-1]))
+            timed.append(last_json_line(result.stdout, " ".join(command)))
     return timed
 
 

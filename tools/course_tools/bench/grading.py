@@ -27,6 +27,7 @@ from course_tools.bench import common as bench_common
 from course_tools.grading import grader
 from course_tools.grading.grading_specs import SPECS
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 
 PAGE = ROOT / "book" / "docs" / "instructors.md"
 START, END = "<!-- bench-grading:start -->", "<!-- bench-grading:end -->"
@@ -59,7 +60,7 @@ def grade_on_one_core(build: Path, chapter: str, submission: Path, out: Path) ->
     seconds = time.monotonic() - started
     if finished.returncode != 0:
         raise RuntimeError(f"grading {chapter} failed:\n{finished.stderr[-3000:]}")
-    printed = json.loads(finished.stdout.strip().splitlines()[-1])
+    printed = last_json_line(finished.stdout, f"grading {chapter}")
     results = printed["results"]
     return {"seconds": seconds, "peak_mib": printed["peak_kib"] / 1024,
             "score": results["score"],

@@ -32,6 +32,7 @@ import numpy as np
 from course_tools.bench import common as bench_common
 from course_tools.bench.common import cpu_model  # noqa: F401  (others import it from here)
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 from python_prototypes.pfm import read_pfm
 
 PAGE = ROOT / "book" / "docs" / "benchmarks.md"
@@ -89,7 +90,7 @@ def run_ours(scene: Scene, settings: Settings):
         if result.returncode != 0:
             raise SystemExit(f"bench: {scene.binary.name} failed on {scene.path.name} "
                              f"({result.returncode}):\n{result.stderr}")
-        stats = json.loads(result.stdout.strip().splitlines()[-1])
+        stats = last_json_line(result.stdout, scene.binary.name)
         return read_pfm(out), stats
 
 

@@ -27,7 +27,6 @@ its page only with --update-book."""
 
 from __future__ import annotations
 
-import json
 import os
 import subprocess
 import tempfile
@@ -38,6 +37,7 @@ from pathlib import Path
 from course_tools.bench import common as bench_common
 
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 
 CHAPTERS = ROOT / "book" / "docs" / "chapters"
 # The block of each page that the bench writes: page, start marker, end marker.
@@ -114,7 +114,7 @@ def run(binaries: dict, row: Row, size: int, spp: int, depth: int,
     if result.returncode != 0:
         raise SystemExit(f"bench speed: {' '.join(command)} failed "
                          f"({result.returncode}):\n{result.stderr}")
-    stats = json.loads(result.stdout.strip().splitlines()[-1])
+    stats = last_json_line(result.stdout, " ".join(command))
     stats["process_seconds"] = seconds
     return stats
 

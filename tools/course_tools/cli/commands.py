@@ -27,6 +27,7 @@ from course_tools.cli.build import (
     say,
 )
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 
 # ---------------------------------------------------------------- verbs
 
@@ -119,7 +120,7 @@ def cmd_bench(args):
         build([*graded, "01_buffer_add"])
         probe = run_checked([str(binary(find_chapter("01"))), "--count", "1", "--json"],
                             capture_output=True, text=True)
-        gl = json.loads(probe.stdout.strip().splitlines()[-1])
+        gl = last_json_line(probe.stdout, "chapter 01")
         status |= bench_grading.main(BUILD, graded, args.repeat, gl["renderer"],
                                      gl["gl_version"], update_book=args.update_book)
     sys.exit(status)

@@ -31,6 +31,7 @@ from course_tools.cli.build import BUILD, binary, build, chapters, die, find_cha
 from course_tools.cli.suite import spread_over_cores
 from course_tools.cli.suite_parts import minutes
 from course_tools.paths import ROOT
+from course_tools.program_output import last_json_line
 
 OUT = BUILD / "gpu-check"
 PAGE = ROOT / "book" / "docs" / "benchmarks.md"
@@ -53,7 +54,7 @@ def chapter_json(name: str, *args: str, env: dict) -> dict:
     if result.returncode != 0:
         die(f"gpu-check: {' '.join(command)} failed (exit code {result.returncode}):\n"
             f"{result.stderr}")
-    return json.loads(result.stdout.strip().splitlines()[-1])
+    return last_json_line(result.stdout, " ".join(command))
 
 
 def device(env: dict) -> dict:
