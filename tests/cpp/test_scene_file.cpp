@@ -322,8 +322,8 @@ TEST_F(SceneFileTest, FormatReadsBackAsTheSameScene) {
 }
 
 TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
-    // The meshes (gems, teapots) are generated at build time; any files with their
-    // names will do here: a stand-in for each `mesh` line's path.
+    // The meshes (gems, teapots) and grids are generated at build time; any files with
+    // their names will do here: a stand-in for each `mesh` and grid line's path.
     const fs::path generated = folder_ / "generated";
     size_t count = 0;
     for (const auto& entry : fs::directory_iterator(kScenes)) {
@@ -341,6 +341,14 @@ TEST_F(SceneFileTest, ShippedScenesRoundTrip) {
             if (keyword == "texture" && words >> kind >> imagePath && kind == "image") {
                 fs::create_directories((generated / imagePath).parent_path());
                 course::writeImage((generated / imagePath).string(), {1, 1, {1, 1, 1, 1}});
+            }
+            if (keyword == "medium" && words >> kind >> imagePath && kind == "grid") {
+                fs::create_directories((generated / imagePath).parent_path());
+                course::VolumeGrid grid;  // chapter 25's grids: one cell will do here
+                grid.resolution = glm::ivec3(1);
+                grid.boxMax = glm::vec3(1.0f);
+                grid.density = {1.0f};
+                course::writeVolumeGrid((generated / imagePath).string(), grid);
             }
         }
         // Every kind of material: chapters 15 and 16 ship metals and glass.
