@@ -105,3 +105,18 @@ def load(root: Path, chapters: list[str]) -> dict[str, Manifest]:
                                 f"(copy another chapter's and edit it)")
         manifests[name] = read(path)
     return manifests
+
+
+def branches(root: Path, chapters: list[str]) -> set[str]:
+    """The numbered chapters off the course's main line: one whose manifest names a
+    `base` other than the numbered chapter before it (24 branches from 18, as the
+    appendix does from 12), and every chapter copied from one of those (25, from 24).
+    The speed chapters (19-23) are the main line's tip."""
+    numbered = [name for name in chapters if name[:2].isdigit()]
+    off = set()
+    for previous, name in zip([None] + numbered, numbered):
+        base = read(root / FOLDER / f"{name}.ini").base
+        parent = base or previous
+        if (base and base != previous) or parent in off:
+            off.add(name)
+    return off

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from course_tools import manifests
 from course_tools.bench import common as bench_common
 from course_tools.bench.common import cpu_model  # noqa: F401  (others import it from here)
 from course_tools.paths import ROOT
@@ -67,8 +68,11 @@ class Settings:
 
 
 def newest_chapter_with_bvh(chapters: list[str], root: Path = ROOT) -> str:
-    """The last numbered chapter whose program has --brute-force, i.e. a BVH to turn off."""
-    with_bvh = [name for name in chapters if name[:2].isdigit() and
+    """The last numbered chapter on the main line (not a branch such as the media
+    chapters, which build on chapter 18 rather than on the speed chapters) whose program
+    has --brute-force, i.e. a BVH to turn off."""
+    off = manifests.branches(root, chapters)
+    with_bvh = [name for name in chapters if name[:2].isdigit() and name not in off and
                 "--brute-force" in (root / "chapters" / name / "main.cpp").read_text()]
     if not with_bvh:
         raise SystemExit("bench: no chapter has a BVH (--brute-force) to render the teapot")
