@@ -97,18 +97,20 @@ def mean_and_error(values: np.ndarray):
     return values.mean(axis=0), values.std(axis=0, ddof=1) / math.sqrt(len(values))
 
 
-def assert_mean_everywhere(image: np.ndarray, expected: float, block: int = 8):
-    """The image's mean is `expected` within SIGMAS standard errors (plus 1e-4 for float
-    rounding), and so is each block x block square's: everywhere, not just on average.
+def assert_mean_everywhere(image: np.ndarray, expected: float, block: int = 8,
+                           margin: float = 1e-4):
+    """The image's mean is `expected` within SIGMAS standard errors (plus `margin`: 1e-4
+    for float rounding), and so is each block x block square's: everywhere, not just on
+    average.
     (Single pixels are no test at a few dozen samples: Russian roulette makes their
     distribution heavy-tailed.)"""
     mean, error = mean_and_error(image)
-    assert np.all(np.abs(mean - expected) < SIGMAS * error + 1e-4), (mean, error)
+    assert np.all(np.abs(mean - expected) < SIGMAS * error + margin), (mean, error)
     rows, columns = image.shape[0] // block, image.shape[1] // block
     squares = image[:rows * block, :columns * block].reshape(rows, block, columns, block, 3)
     for square in squares.swapaxes(1, 2).reshape(rows * columns, block * block, 3):
         square_mean, square_error = mean_and_error(square)
-        assert np.all(np.abs(square_mean - expected) < SIGMAS * square_error + 1e-4), \
+        assert np.all(np.abs(square_mean - expected) < SIGMAS * square_error + margin), \
             square_mean
 
 
