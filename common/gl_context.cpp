@@ -95,6 +95,9 @@ std::unique_ptr<GlContext> createGlContext(const Options& options, GlVersion req
         }
         return createOsMesaContext(required);
     }
+    // Windows: the driver's OpenGL, through a window that is never shown.
+    if (!osmesaBuiltIn())
+        return createGlfwContext(required, options, windowTitle, /*visible=*/false);
     // A build without EGL (macOS): OSMesa if it is installed, else a hidden GLFW window,
     // which on a Mac gives the system's OpenGL 4.1.
     try {

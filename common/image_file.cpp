@@ -1,7 +1,5 @@
 #include "course/image_file.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -13,6 +11,7 @@
 
 #include "course/error.h"
 #include "course/exr_file.h"
+#include "course/portable_files.h"
 
 namespace fs = std::filesystem;
 
@@ -79,26 +78,26 @@ void checkOutputPath(const std::string& path) {
                                      " does not exist");
     if (fs::is_directory(fs::path(path), error))
         fail(ExitCode::BadUsage, "--out " + path + ": is a folder, not a file");
-    if (access(folder.c_str(), W_OK) != 0)
+    if (!folderIsWritable(folder))
         fail(ExitCode::BadUsage, "--out " + path + ": folder " + folder.string() +
                                      " is not writable");
     // access() says yes to root even on a read-only file system: try for real, with the
     // temporary name the image will be written under, before any rendering.
     fs::path probe = fs::absolute(path);
-    probe += ".tmp" + std::to_string(getpid());
-    std::FILE* file = std::fopen(probe.c_str(), "wb");
+    probe += ".tmp" + std::to_string(processId());
+    std::FILE* file = openFile(probe, "wb");
     if (!file)
         fail(ExitCode::BadUsage, "--out " + path + ": cannot write in " + folder.string() +
                                      " (" + std::strerror(errno) + ")");
     std::fclose(file);
-    std::remove(probe.c_str());
+    fs::remove(probe, error);
 }
 
 void writeFileAtomically(const std::string& path,
                          const std::function<std::string(const std::string&)>& write) {
     fs::path target = fs::absolute(path);
     fs::path temporary = target;
-    temporary += ".tmp" + std::to_string(getpid());
+    temporary += ".tmp" + std::to_string(processId());
     // An output we cannot write is a usage problem (exit 2): a read-only or full disk,
     // a path the user chose. The message says which folder and why.
     auto cannotWrite = [&](const char* step, const std::string& reason) {
@@ -109,13 +108,13 @@ void writeFileAtomically(const std::string& path,
     };
     const std::string problem = write(temporary.string());
     if (!problem.empty()) cannotWrite("writing", problem);
-    if (std::rename(temporary.c_str(), target.c_str()) != 0)
-        cannotWrite("renaming", std::strerror(errno));
+    const std::string replaced = replaceFile(temporary, target);
+    if (!replaced.empty()) cannotWrite("renaming", replaced);
 }
 
 void writeFileAtomically(const std::string& path, const std::string& bytes) {
     writeFileAtomically(path, [&](const std::string& temporary) -> std::string {
-        std::FILE* file = std::fopen(temporary.c_str(), "wb");
+        std::FILE* file = openFile(temporary, "wb");
         if (!file) return std::string("creating a temporary file: ") + std::strerror(errno);
         bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
         written = (std::fflush(file) == 0) && written;

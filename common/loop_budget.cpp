@@ -1,7 +1,5 @@
 #include "course/loop_budget.h"
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "course/error.h"
 #include "course/gpu_buffer.h"
 #include "course/log.h"
+#include "course/portable_files.h"
 #include "course/shader_program.h"
 
 namespace fs = std::filesystem;
@@ -179,15 +178,8 @@ std::string driverKey(GLenum stage) {
 }
 
 fs::path cacheFile() {
-    const char* xdg = std::getenv("XDG_CACHE_HOME");
-    const char* home = std::getenv("HOME");
-    fs::path folder;
-    if (xdg && fs::path(xdg).is_absolute())  // the XDG rule: a relative one is ignored
-        folder = xdg;
-    else if (home && *home)
-        folder = fs::path(home) / ".cache";
-    else
-        return {};
+    const fs::path folder = userCacheFolder();
+    if (folder.empty()) return {};
     return folder / "gpu-ray-tracing-course" / "loop-limits.tsv";
 }
 
@@ -230,7 +222,7 @@ bool writeCache(const fs::path& file, const std::string& key, const LoopLimit& l
     std::error_code error;
     fs::create_directories(file.parent_path(), error);
     if (error) return false;
-    const fs::path partial = file.string() + "." + std::to_string(getpid()) + ".tmp";
+    const fs::path partial = file.string() + "." + std::to_string(processId()) + ".tmp";
     {
         std::ofstream out(partial);
         out << "# Shader loop limits measured by the GPU ray tracing course (loop_budget.h)"
@@ -248,9 +240,9 @@ bool writeCache(const fs::path& file, const std::string& key, const LoopLimit& l
             return false;
         }
     }
-    fs::rename(partial, file, error);
-    if (error) fs::remove(partial, error);
-    return !error;
+    if (replaceFile(partial, file).empty()) return true;
+    fs::remove(partial, error);
+    return false;
 }
 
 }  // namespace

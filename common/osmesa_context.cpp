@@ -49,6 +49,8 @@ private:
 
 }  // namespace
 
+bool osmesaBuiltIn() { return true; }
+
 std::unique_ptr<GlContext> createOsMesaContext(GlVersion required) {
     void* library = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
     if (!library) library = dlopen("libOSMesa.so", RTLD_NOW | RTLD_LOCAL);

@@ -190,7 +190,7 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
                 std::string path = chapter_.name + "_screenshot_" +
                                    std::to_string(++screenshots) + ".png";
                 writeImage(path, downloadImage(shown()));
-                std::printf("saved %s\n", fs::absolute(path).c_str());
+                std::printf("saved %s\n", fs::absolute(path).string().c_str());
             }
             screenshotKeyWasDown = screenshotKeyDown;
             int width = 0, height = 0;
@@ -206,7 +206,7 @@ void Session::finish(const ImageBuffer& image, const std::function<void()>& rend
     std::string path = options_.outPath.empty() ? chapter_.name + ".png" : options_.outPath;
     writeImage(path, downloadImage(forFile(path)));
     stats_.set("out", fs::absolute(path).string());
-    if (!options_.json) std::printf("wrote %s\n", fs::absolute(path).c_str());
+    if (!options_.json) std::printf("wrote %s\n", fs::absolute(path).string().c_str());
 }
 
 // --probe-loop-limit: the loop limit of the shaders the chapter runs (fragment shaders

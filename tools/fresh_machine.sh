@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # The fresh-machine check: the README's two commands, exactly as written, on a clean
-# Debian (or Ubuntu 22.04) made with debootstrap. Nothing of this machine's is in the root but what a
-# learner's machine would have: compilers, CMake, Ninja, git, Debian's own python3 and
-# venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
+# Debian or Ubuntu made with debootstrap. Nothing of this machine's is in the root but
+# what a learner's machine would have: compilers, CMake, Ninja, git, the distribution's
+# own python3 and venv. (The CA bundle, and the apt and pip configuration, are copied in so that apt
 # and pip reach the package mirrors as they do here.)
 #
 #   tools/fresh_machine.sh SUITE [--chapter NN] [--gradescope NN] [--caches] [--keep]
 #
-#   SUITE         bookworm (Debian 12), trixie (Debian 13) or jammy (Ubuntu 22.04,
-#                 Gradescope's image: Python 3.10, OpenEXR 2.5; main and universe,
-#                 with jammy-updates and jammy-security as an installed Ubuntu has)
+#   SUITE         bookworm (Debian 12), trixie (Debian 13), jammy (Ubuntu 22.04,
+#                 Gradescope's image: Python 3.10, OpenEXR 2.5) or noble (Ubuntu 24.04,
+#                 WSL 2's default: Python 3.12); the Ubuntu roots have main and universe,
+#                 with -updates and -security as an installed Ubuntu has. Playwright's
+#                 browser download (the Ubuntu rows' book check) may be out of reach: the
+#                 test layer then stops there, and the summary says so (exit code 3)
 #   --chapter NN  run `./course test NN` instead of `./course test` (what .ci/run names:
 #                 the whole test layer is set up and built, one chapter's checks run)
+#   --run-only    only the README's first command, `./course run` (the run layer)
 #   --gradescope NN  instead: lay the root out as Gradescope does (/autograder/source,
 #                 /autograder/submission, /autograder/results), unpack the chapter's
 #                 autograder zip (./course autograder NN), run its setup.sh, then grade
@@ -28,6 +32,8 @@
 #   --keep        leave the root in place afterwards (to look inside)
 #
 # Prints each command's time, and ends with one line per command: "fresh SUITE: ...".
+# Exit 0 when every command passed, 1 when one failed, 3 when the test layer's set-up
+# could not download Playwright's Chromium (Ubuntu; nothing of the suite ran).
 # Needs root (debootstrap, chroot, mounts). The debootstrapped base (before anything of
 # the course is installed) is cached as a tarball in COURSE_FRESH_CACHE
 # (default /var/tmp/course-fresh), keyed by suite and package list.
@@ -35,25 +41,28 @@ set -euo pipefail
 # The whole script is one block, read before any of it runs: editing this file while a
 # check is under way (it takes minutes) cannot change the running check.
 {
-usage() { sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,36p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 [ $# -ge 1 ] || usage
 SUITE="$1"; shift
 CHAPTER=""
 GRADESCOPE=""
 KEEP=0
 CACHES=0
+RUN_ONLY=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --chapter) CHAPTER="${2:?--chapter needs a chapter number}"; shift 2 ;;
     --gradescope) GRADESCOPE="${2:?--gradescope needs a chapter number}"; shift 2 ;;
     --keep) KEEP=1; shift ;;
+    --run-only) RUN_ONLY=1; shift ;;
     --caches) CACHES=1; shift ;;
     *) usage ;;
   esac
 done
 case "$SUITE" in
-  bookworm | trixie | jammy) ;;
-  *) echo "fresh_machine: SUITE is bookworm, trixie or jammy, not '$SUITE'" >&2; exit 2 ;;
+  bookworm | trixie) UBUNTU=0 ;;
+  jammy | noble) UBUNTU=1 ;;
+  *) echo "fresh_machine: SUITE is bookworm, trixie, jammy or noble, not '$SUITE'" >&2; exit 2 ;;
 esac
 if [ "$(id -u)" -ne 0 ]; then
   echo "fresh_machine: needs root (debootstrap, chroot)" >&2
@@ -67,9 +76,15 @@ fi
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 MIRROR="${COURSE_DEBIAN_MIRROR:-http://deb.debian.org/debian}"
 DEBOOTSTRAP_OPTIONS=()
-if [ "$SUITE" = jammy ]; then
+DEBOOTSTRAP_SCRIPT=()
+if [ "$UBUNTU" = 1 ]; then
   MIRROR="${COURSE_UBUNTU_MIRROR:-http://archive.ubuntu.com/ubuntu}"
   DEBOOTSTRAP_OPTIONS=(--components=main,universe)
+  # An older debootstrap (Debian 12's) has no script for a newer Ubuntu; every Ubuntu
+  # release since 7.10 is made by the same one, which its scripts link to.
+  if [ ! -e "/usr/share/debootstrap/scripts/$SUITE" ]; then
+    DEBOOTSTRAP_SCRIPT=(/usr/share/debootstrap/scripts/gutsy)
+  fi
 fi
 # What a learner's machine has before the README: compilers, CMake, Ninja, git, Python.
 BASE_PACKAGES="g++,cmake,ninja-build,git,python3,python3-venv,ca-certificates"
@@ -113,14 +128,14 @@ ubuntu_keyring() {
 
 # 1. A minimal Debian: debootstrap once per suite, then unpack the cached tarball.
 mkdir -p "$CACHE"
-if [ "$SUITE" = jammy ]; then
+if [ "$UBUNTU" = 1 ]; then
   DEBOOTSTRAP_OPTIONS+=(--keyring="$(ubuntu_keyring)")
 fi
 if [ ! -s "$BASE_TAR" ]; then
   echo "fresh_machine: debootstrap $SUITE (minbase + $BASE_PACKAGES)" >&2
   started=$(seconds)
   debootstrap --variant=minbase "${DEBOOTSTRAP_OPTIONS[@]}" --include="$BASE_PACKAGES" \
-    "$SUITE" "$ROOTFS" "$MIRROR" \
+    "$SUITE" "$ROOTFS" "$MIRROR" "${DEBOOTSTRAP_SCRIPT[@]}" \
     >"$CACHE/$SUITE-debootstrap.log" 2>&1 ||
     { tail -20 "$CACHE/$SUITE-debootstrap.log" >&2; exit 1; }
   tar -C "$ROOTFS" -cf "$BASE_TAR.partial" . && mv "$BASE_TAR.partial" "$BASE_TAR"
@@ -130,10 +145,10 @@ else
 fi
 
 # An installed Ubuntu has its updates and universe; debootstrap wrote the release alone.
-if [ "$SUITE" = jammy ]; then
+if [ "$UBUNTU" = 1 ]; then
   cat >"$ROOTFS/etc/apt/sources.list" <<SOURCES
-deb $MIRROR jammy jammy-updates main universe
-deb http://security.ubuntu.com/ubuntu jammy-security main universe
+deb $MIRROR $SUITE $SUITE-updates main universe
+deb http://security.ubuntu.com/ubuntu $SUITE-security main universe
 SOURCES
 fi
 
@@ -276,11 +291,33 @@ fi
 test_command="./course test${CHAPTER:+ $CHAPTER}"
 summary=()
 status=0
-for command in "./course run" "$test_command"; do
+# Set-up's exit code when Playwright's own Chromium cannot be downloaded (the Ubuntu
+# rows' book check; tools/course_tools/setup/machine_setup.py).
+BROWSER_DOWNLOAD_FAILED=9
+commands=("./course run")
+[ "$RUN_ONLY" = 1 ] || commands+=("$test_command")
+for command in "${commands[@]}"; do
   echo "fresh_machine: [$SUITE] $command" >&2
   started=$(seconds)
-  if in_root "$command" </dev/null; then result=passed; else result="FAILED ($?)"; status=1; fi
+  log="$ROOTFS/tmp/fresh-command.log"
+  set +e
+  in_root "$command" </dev/null 2> >(tee "$log" >&2)
+  code=$?
+  set -e
+  sleep 1  # the tee's last lines
   took=$(($(seconds) - started))
+  if [ "$code" = 0 ]; then
+    result=passed
+  elif [ "$UBUNTU" = 1 ] && [ "$code" = "$BROWSER_DOWNLOAD_FAILED" ]; then
+    # Not a pass and not the course's failure: the suite never ran. Said as such.
+    summary+=("fresh $SUITE: '$command' stopped by set-up (exit $code) after \
+$((took / 60)) min $((took % 60)) s: Playwright's Chromium could not be downloaded from \
+this machine, so the test layer's set-up ends there and no check ran")
+    status=3
+    break
+  else
+    result="FAILED ($code)"; status=1
+  fi
   summary+=("fresh $SUITE: '$command' $result in $((took / 60)) min $((took % 60)) s")
   [ "$status" = 0 ] || break
 done

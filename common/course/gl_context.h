@@ -49,6 +49,7 @@ bool eglBuiltIn();  // false in builds without EGL (macOS): egl_unavailable.cpp
 // gpu >= 0: EGL device `gpu` and no other (--gpu); -1: the first that works.
 std::unique_ptr<GlContext> createEglContext(GlVersion required, int gpu = -1);
 std::unique_ptr<GlContext> createOsMesaContext(GlVersion required);
+bool osmesaBuiltIn();  // false on Windows, which has no OSMesa: osmesa_unavailable.cpp
 // visible = false: a window that is never shown, only to hold a context (headless
 // where there is neither EGL nor OSMesa, as on macOS).
 std::unique_ptr<GlContext> createGlfwContext(GlVersion required, const Options& options,

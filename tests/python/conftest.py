@@ -8,6 +8,7 @@ import json
 import math
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -26,11 +27,16 @@ from python_prototypes.srgb import encode_8bit as srgb_encode_8bit  # noqa: F401
 ROOT = Path(__file__).resolve().parents[2]
 # COURSE_BIN_DIR: another build of the chapters (./course test --sanitize uses it).
 BIN = Path(os.environ.get("COURSE_BIN_DIR", ROOT / "build" / "bin"))
+# COURSE_PROGRAM_RUNNER: what runs a chapter's program, before its path: ./course
+# windows-check runs the Windows build's .exe files through Wine ("env DISPLAY=:N wine").
+RUNNER = shlex.split(os.environ.get("COURSE_PROGRAM_RUNNER", ""))
 
 # The suite's clock: progress on stderr, and each check's time for the next estimate.
 pytest_plugins = ["suite_clock"]
 
-BACKENDS = ["egl", "osmesa"]
+# The headless backends a build has: EGL and OSMesa on Linux; a hidden GLFW window on
+# Windows (COURSE_BACKENDS=glfw, as ./course windows-check sets it).
+BACKENDS = os.environ.get("COURSE_BACKENDS", "egl osmesa").split()
 RUN_TIMEOUT = 300  # seconds; a chapter run that takes longer has hung
 
 
@@ -40,6 +46,8 @@ def pytest_configure(config):
     for folder in sorted((ROOT / "chapters").iterdir()):
         number = folder.name.split("_")[0]
         config.addinivalue_line("markers", f"chapter{number}: checks of {folder.name}")
+    config.addinivalue_line("markers", "windows: a chapter's image check that ./course "
+                            "windows-check also runs on the Windows build, under Wine")
 
 
 def pytest_collection_modifyitems(items):
@@ -122,18 +130,25 @@ def chapter_name(prefix: str) -> str:
     folder, which may still hold a program of a chapter since renamed."""
     name = chapters.matching(prefix, ROOT)
     assert name is not None, f"there is no chapter {prefix} in {ROOT / 'CMakeLists.txt'}"
-    assert (BIN / name).exists(), f"chapter {prefix} is not built in {BIN}"
+    assert program_path(name).exists(), f"chapter {prefix} is not built in {BIN}"
     return name
+
+
+def program_path(name: str) -> Path:
+    """A chapter's program in BIN: NN_name, or NN_name.exe in a Windows build."""
+    windows = BIN / f"{name}.exe"
+    return windows if windows.exists() and not (BIN / name).exists() else BIN / name
 
 
 def run_chapter(prefix: str, *args: str, cwd: Path | None = None, env: dict | None = None,
                 timeout: float = RUN_TIMEOUT) -> Run:
     """Runs build/bin/<prefix>_* with args; the working folder is a scratch folder."""
-    program = BIN / chapter_name(prefix)
+    program = program_path(chapter_name(prefix))
     environment = dict(os.environ)
     environment.pop("DISPLAY", None)  # headless unless a test puts a display back
     environment.update(env or {})
-    result = subprocess.run([str(program), *map(str, args)], capture_output=True, text=True,
+    result = subprocess.run([*RUNNER, str(program), *map(str, args)], capture_output=True,
+                            text=True,
                             cwd=cwd or Path.cwd(), env=environment, timeout=timeout)
     return Run(result.returncode, result.stdout, result.stderr)
 

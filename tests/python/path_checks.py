@@ -25,7 +25,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, chapter_name, copy_shaders, read_pfm, regions_agreeing, run_chapter
+from conftest import (RUNNER, ROOT, chapter_name, copy_shaders, program_path, read_pfm,
+                      regions_agreeing, run_chapter)
 
 from course_tools.grading import grader
 from course_tools import reference_cache
@@ -62,6 +63,10 @@ def kept_render_key(chapter: str, arguments: list[str], out: Path) -> str:
     output."""
     parts = [grader.reference_maker(ROOT, ROOT / "build", chapter_name(chapter)),
              reference_cache.tree_digest(ROOT / "tests" / "data", scenes_as_read=True)]
+    if RUNNER:
+        # Another system's program (the Windows build under Wine): its own renders, never
+        # the Linux program's kept ones, since the check is of that program.
+        parts += ["program", reference_cache.file_digest(program_path(chapter_name(chapter)))]
     for argument in arguments:
         path = Path(argument)
         if path.is_dir():
@@ -137,7 +142,6 @@ def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
     light, at least 20) within SIGMAS standard errors of Mitsuba 3's render at `spp`,
     and within most_relative of its brightness if given. Returns the regions compared."""
     pytest.importorskip("mitsuba")
-    from python_prototypes import mitsuba_reference
     from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     height, width = ours.shape[:2]

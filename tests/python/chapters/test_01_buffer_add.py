@@ -9,6 +9,7 @@ import pytest
 from conftest import BACKENDS, copy_shaders, run_chapter
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("count", [1, 31, 32, 33, 1_000_000])
 def test_sums_match_the_cpu(backend, count):

@@ -14,6 +14,7 @@ from python_prototypes.reference.first_pixels import first_pixels_pattern
 WIDTH, HEIGHT = 203, 157
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("dispatch", ["1d", "2d"])
 def test_pattern_equals_numpy(tmp_path, backend, dispatch):

@@ -31,6 +31,7 @@ def reference_colors(width, height, camera: dict | None = None) -> np.ndarray:
     return camera_rays.ray_colors(rays)
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_every_ray_equals_the_prototype(tmp_path, backend):
     args = ["--width", WIDTH, "--height", HEIGHT, "--backend", backend]

@@ -20,6 +20,7 @@ def reference_png(scene="spheres", first_hit=False):
     return srgb_encode_8bit(render_normals(scene, WIDTH, HEIGHT, first_hit=first_hit))
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_spheres_agree_with_numpy(tmp_path, backend):
     png = render("04", tmp_path / "spheres.png", "--width", WIDTH, "--height", HEIGHT,

@@ -18,6 +18,7 @@ def reference_png(scene="spheres"):
     return srgb_encode_8bit(render_shaded(scene, WIDTH, HEIGHT))
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_shading_agrees_with_numpy(tmp_path, backend):
     png = render("05", tmp_path / "shaded.png", "--width", WIDTH, "--height", HEIGHT,

@@ -19,6 +19,7 @@ def reference_png(scene="spheres"):
     return srgb_encode_8bit(render_shaded(scene, WIDTH, HEIGHT))
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_triangles_agree_with_numpy(tmp_path, backend):
     png = render("06", tmp_path / "triangles.png", "--width", WIDTH, "--height", HEIGHT,

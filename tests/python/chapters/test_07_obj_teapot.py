@@ -49,6 +49,7 @@ def render_mesh(tmp_path, *args, size=(WIDTH, HEIGHT), name="mesh.png"):
 # Pictures against the reference
 # ---------------------------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_teapot_agrees_with_numpy(tmp_path, reference, backend):
     """No --obj: the generated teapot of 552 triangles, framed automatically."""

@@ -56,6 +56,7 @@ def smooth_png(tmp_path_factory):
 # Pictures against the reference
 # ---------------------------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_smooth_teapot_agrees_with_numpy(tmp_path, reference, smooth_png, backend):
     png = (smooth_png if backend == BACKENDS[0]  # rendered already

@@ -33,6 +33,7 @@ def draw(tmp_path, seeding, seed, width, height, count, spp=1, *extra):
 # The GPU's numbers are rng.py's numbers
 # ---------------------------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("seeding", ["naive", "hashed"])
 @pytest.mark.parametrize("seed", [1, 2024])
 def test_streams_equal_the_numpy_model_bit_for_bit(tmp_path, seeding, seed):
@@ -52,6 +53,7 @@ def test_the_stream_continues_across_many_dispatches(tmp_path):
     assert np.array_equal(numbers, rng.pixel_streams("hashed", 7, 12, 10, 12)[9:])
 
 
+@pytest.mark.windows
 def test_accumulation_is_the_running_mean(tmp_path):
     """Two samples: mean = x0 + (x1 - x0) / 2, in float32 as the shader computes it;
     eight: the mean of the first eight numbers, up to float32 rounding."""

@@ -70,6 +70,7 @@ def shapes_scene(tmp_path):
     return path
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", ["shapes", "cornell_spheres", "cornell_box"])
 def test_every_pixel_shows_the_surface_numpy_finds(tmp_path, shapes_scene, scene):
     scene_file = shapes_scene if scene == "shapes" else SCENES / f"{scene}.scene"

@@ -30,6 +30,7 @@ def path_trace(tmp_path, name: str, *args) -> np.ndarray:
 
 # --- White furnaces -------------------------------------------------------------------
 
+@pytest.mark.windows
 def test_furnace_box_returns_emission_over_one_minus_albedo(tmp_path):
     # Walls of albedo 0.5 glowing with 1: L = 1 + 0.5 L, so L = 2. --depth 40 truncates
     # the series after 2 (1 - 0.5^41): 1e-12 short.
@@ -58,6 +59,7 @@ def test_white_sphere_vanishes_in_the_furnace(tmp_path):
 
 # --- Direct light with a closed form --------------------------------------------------
 
+@pytest.mark.windows
 def test_floor_under_a_square_light_matches_the_form_factor(tmp_path):
     expected = square_light_expected()
     image = path_trace(tmp_path, "square", "--scene", SCENES / "square_light.scene",

@@ -64,6 +64,7 @@ def test_white_sphere_vanishes_in_the_furnace(tmp_path):
 
 # --- Direct light with a closed form --------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("estimator", ["nee", "bsdf", "mis"])
 def test_floor_under_a_square_light_matches_the_form_factor(tmp_path, estimator):
     expected = square_light_expected()

@@ -83,6 +83,7 @@ def distance_disagreements(found, expected):
     return np.abs(found - expected) > 1e-4 * np.maximum(expected, 1.0)
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("mesh", [TEAPOT_552, TEAPOT_6320], ids=["552", "6320"])
 def test_camera_rays_find_what_numpy_finds(tmp_path, chapter, mesh):
     scene = room_with(tmp_path, mesh)

@@ -35,6 +35,7 @@ def chapter() -> str:
 
 # --- The tree finds what brute force finds ---------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("mesh", [TEAPOT_552, TEAPOT_6320], ids=["552", "6320"])
 @pytest.mark.parametrize("view", ["normals", "distance"])
 def test_camera_rays_hit_the_same_triangles_as_brute_force(tmp_path, mesh, view):

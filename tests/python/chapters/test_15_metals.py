@@ -207,6 +207,7 @@ def test_gpu_samples_have_the_gpu_pdf(tmp_path, angle, alpha):
 
 # --- White furnaces ---------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("estimator", ["nee", "mis"])
 def test_mirror_sphere_vanishes_in_the_furnace(tmp_path, estimator):
     # A perfect mirror in a box glowing with 1 reflects the box: as bright as the box.

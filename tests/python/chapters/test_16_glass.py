@@ -206,6 +206,7 @@ def test_gpu_samples_have_the_gpu_pdf(tmp_path, alpha, angle, eta):
 
 # --- Furnace and the radiance scale -----------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("ior", [1.5, 2.42])
 def test_glass_sphere_vanishes_in_the_furnace(tmp_path, ior):
     # Smooth glass in a box glowing with 1: every path leaves the glass again and ends

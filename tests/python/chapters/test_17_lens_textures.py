@@ -167,6 +167,7 @@ def blocks(image: np.ndarray, block: int = 4) -> np.ndarray:
         size, size, -1)
 
 
+@pytest.mark.windows
 def test_the_focus_plane_is_as_sharp_as_through_a_pinhole(tmp_path):
     """Block means against the pinhole's, in standard errors of the noise, which two
     pinhole renders of different seeds measure block by block (their difference is

@@ -55,6 +55,7 @@ def render(tmp_path, name, scene_text, *args) -> np.ndarray:
 
 # --- The furnace ---------------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("albedo", [1.0, 0.5])
 def test_a_sphere_in_a_constant_environment(tmp_path, albedo):
     write_map(tmp_path / "grey.pfm", np.full((8, 16, 3), 0.75))
@@ -78,6 +79,7 @@ def test_a_sphere_in_a_constant_environment(tmp_path, albedo):
 
 # --- Orientation ------------------------------------------------------------------------------
 
+@pytest.mark.windows
 @pytest.mark.parametrize("degrees", [0, 75])
 def test_the_background_is_the_map_the_right_way_round(tmp_path, degrees):
     """A wide camera looking up and sideways at the spots map: each pixel that looks into

@@ -41,6 +41,7 @@ WAYS = {
 SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", ["cornell_metals", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_every_way_of_reading_the_scene_draws_chapter_18s_picture(tmp_path, scene):

@@ -26,6 +26,7 @@ SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
 TREES = {"priced": [], "by_count": ["--bvh-leaves-by-count"]}
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", ["cornell_teapot", "lens_textures"])
 def test_the_walk_draws_chapter_20s_picture(tmp_path, scene):
     reference = path_trace("20", tmp_path, "chapter20", "--scene", scene, *SMALL)

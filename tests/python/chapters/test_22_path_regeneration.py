@@ -31,6 +31,7 @@ SMALL = ["--width", "48", "--height", "48", "--spp", "8"]
 
 # Every material kind, under the sky; a textured mesh through the tree and a lens; an
 # environment with every estimator's share; glass.
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", ["sky_showcase", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_the_path_in_steps_draws_chapter_21s_picture(tmp_path, scene):

@@ -39,6 +39,7 @@ WAVEFRONT = ["--kernel", "wavefront"]
 
 # Every material kind, under the sky; a textured mesh through the tree and a lens; an
 # environment with every estimator's share; glass.
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", ["sky_showcase", "lens_textures", "sky_estimators",
                                    "cornell_glass"])
 def test_both_kernels_draw_chapter_22s_picture(tmp_path, scene):

@@ -207,6 +207,7 @@ def expected_through_ball(scene_file, size, subsamples=8):
             by_pixel.min(axis=(1, 3)) > 0.8, by_pixel.max(axis=(1, 3)) == 0)
 
 
+@pytest.mark.windows
 def test_light_through_an_absorbing_ball_follows_beer_lambert(tmp_path):
     scene_file = absorbing_ball_scene(tmp_path)
     image = path_trace(tmp_path, "ball", "--scene", scene_file, "--width", 48, "--height", 48,

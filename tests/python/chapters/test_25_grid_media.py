@@ -135,6 +135,7 @@ def assert_follows_optical_depth(image, expected):
     assert np.allclose(image[thick].mean(axis=0), wall[thick].mean(axis=0), rtol=0.01)
 
 
+@pytest.mark.windows
 def test_camera_rays_through_an_absorbing_grid_follow_its_optical_depth(tmp_path):
     scene_file = absorbing_cloud_scene(tmp_path)
     image = path_trace(tmp_path, "cloud", "--scene", scene_file, "--width", 32,
@@ -193,6 +194,7 @@ def assert_same_within_noise(first, second):
         assert np.all(np.abs(mean) < SIGMAS * error + 2e-4), (mean, error)
 
 
+@pytest.mark.windows
 def test_a_grid_of_one_density_is_the_homogeneous_medium(tmp_path):
     grid, homogeneous = render_both(tmp_path)
     assert_same_within_noise(grid, homogeneous)

@@ -84,6 +84,7 @@ def test_a_generator_that_never_moves_on_is_caught(tmp_path, pictures):
     assert np.abs(stuck - theirs).mean() > 3 * np.abs(other - theirs).mean()
 
 
+@pytest.mark.windows
 def test_splitting_the_passes_changes_nothing(tmp_path):
     one, _ = render("A1", tmp_path, "one", "--width", 24, "--height", 24, "--spp", 16)
     four, _ = render("A1", tmp_path, "four", "--width", 24, "--height", 24, "--spp", 16,

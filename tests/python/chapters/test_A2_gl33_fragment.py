@@ -124,6 +124,7 @@ def triangle_pictures(tmp_path_factory):
     return runs
 
 
+@pytest.mark.windows
 @pytest.mark.parametrize("scene", list(TRIANGLE_SCENES))
 def test_triangles_same_seed_same_samples_as_chapter_12(triangle_pictures, scene):
     # The same corners and normals (placed in the world on the CPU as chapter 12 does),

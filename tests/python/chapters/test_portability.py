@@ -18,7 +18,8 @@ import time
 import numpy as np
 import pytest
 
-from conftest import BIN, ROOT, read_pfm, run_chapter, xvfb_available
+from conftest import (BIN, ROOT, copy_shaders, read_pfm, render, run_chapter,
+                      xvfb_available)
 
 GL33 = {"MESA_GL_VERSION_OVERRIDE": "3.3", "MESA_GLSL_VERSION_OVERRIDE": "330"}
 A2_OPTIONS = ("--width", "32", "--height", "32", "--spp", "8", "--seed", "7")
@@ -112,3 +113,31 @@ def test_every_python_file_is_python_3_10():
     import re
     assert not [p for p in ROOT.rglob("*.py") if ".venv" not in p.parts and "build" not in
                 p.parts and re.search(r"^\s*(import|from) tomllib", p.read_text(), re.M)]
+
+
+def crlf(data: bytes) -> bytes:
+    return data.replace(b"\r\n", b"\n").replace(b"\n", b"\r\n")
+
+
+@pytest.mark.windows
+def test_files_with_windows_line_ends_draw_the_same_picture(tmp_path):
+    """Git for Windows checks text files out with CRLF line ends (core.autocrlf): the
+    shaders with their #includes, the scene file and the mesh it names must read as
+    they do with LF, and give the same picture bit for bit."""
+    shaders = copy_shaders("14", tmp_path)
+    for source in shaders.rglob("*"):
+        if source.is_file():
+            source.write_bytes(crlf(source.read_bytes()))
+    scene = ROOT / "assets" / "scenes" / "cornell_teapot.scene"
+    (tmp_path / "crlf").mkdir()
+    (tmp_path / "crlf" / "meshes").mkdir()
+    mesh = BIN.parent / "assets" / "meshes" / "teapot_6320.obj"
+    (tmp_path / "crlf" / "meshes" / mesh.name).write_bytes(crlf(mesh.read_bytes()))
+    (tmp_path / "crlf" / scene.name).write_bytes(crlf(scene.read_bytes()))
+    assert b"\r\n" in (tmp_path / "crlf" / scene.name).read_bytes()
+    size = ("--width", 64, "--height", 48, "--spp", 2, "--seed", 3)
+    with_lf = render("14", tmp_path / "lf.pfm", "--scene", scene, *size)
+    with_crlf = render("14", tmp_path / "crlf.pfm", "--scene", tmp_path / "crlf" / scene.name,
+                       "--shader-dir", shaders, *size)
+    assert with_lf.mean() > 0.01
+    assert np.array_equal(with_lf, with_crlf)

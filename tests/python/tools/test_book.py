@@ -253,22 +253,44 @@ def test_a_claim_the_measurement_contradicts_fails_naming_its_page(tmp_path, mon
 
 
 def test_the_instructors_catalogue_table_names_every_catalogued_variant():
-    """The table between the catalogue markers is written by ./course test --update-book
-    from what the suite measured (tools/course_tools/cli/measured_pages.py); here it must name exactly
-    the variants of tests/python/grading_variants.py, each in its chapter and kind, with
-    a score a wrong variant may have (at most half) or a correct one (at least 90%)."""
+    """The tables between the catalogue and diagnosis markers are written by ./course
+    test --update-book from what the suite measured (tools/course_tools/cli/measured_pages.py);
+    here the first must name exactly the variants of grading_catalogue, each in its
+    chapter and kind, with a score a wrong variant may have (at most half) or a correct
+    one (at least 90%) and the diagnosis the suite asks of it (nothing for a correct
+    one, a wrong one itself, a held-out one the mistake it makes); the second, one row
+    per catalogued chapter."""
     from course_tools.cli import measured_pages
-    import grading_variants
+    import grading_catalogue
     page = (ROOT / "book" / "docs" / "instructors.md").read_text()
     table = page.split(measured_pages.START, 1)[1].split(measured_pages.END, 1)[0]
-    rows = re.findall(r"^\| (\w\w) \| (correct|wrong): (.+?) \| (\d+)% \|$", table, re.M)
-    listed = {(chapter, kind, name) for chapter, kind, name, _ in rows}
-    expected = {(number, "correct" if v.correct else "wrong", v.name)
-                for number, variants in grading_variants.CATALOGUE.items() for v in variants}
+    rows = re.findall(r"^\| (\w\w) \| (correct|wrong|held-out): (.+?) \| (\d+)% \| (.+?) \|$",
+                      table, re.M)
+    listed = {(chapter, kind, name) for chapter, kind, name, _, _ in rows}
+    expected = {(number, "held-out" if v.held_out else "correct" if v.correct else "wrong",
+                 v.name)
+                for number, variants in grading_catalogue.CATALOGUE.items() for v in variants}
     assert len(rows) == len(listed)
     assert listed == expected, (sorted(expected - listed), sorted(listed - expected))
-    for _, kind, name, score in rows:
+    unrecognisable = {v.name: number for number, variants in grading_catalogue.CATALOGUE.items()
+                      for v in variants if not v.recognisable}
+    for _, kind, name, score, diagnosed in rows:
         assert (int(score) >= 90) if kind == "correct" else (int(score) <= 50), name
+        expected_diagnosis = {"correct": "nothing", "wrong": "itself",
+                              "held-out": "the mistake it makes"}[kind]
+        same_effect = f"{expected_diagnosis}, with "  # and mistakes of the same effect
+        assert diagnosed == expected_diagnosis or kind != "correct" and \
+            diagnosed.startswith(same_effect) and diagnosed.endswith("(the same effect)") or \
+            name in unrecognisable and \
+            diagnosed in ("itself", "nothing (a data race: not recognisable)"), (name, diagnosed)
+    counts = page.split(measured_pages.DIAGNOSIS_START, 1)[1].split(
+        measured_pages.DIAGNOSIS_END, 1)[0]
+    chapters = re.findall(r"^\| (\w\w) \| (\d+) / (\d+) \| (\d+) / (\d+) \| 0 / \d+ \|",
+                          counts, re.M)
+    assert {c for c, *_ in chapters} == set(grading_catalogue.CATALOGUE)
+    races = list(unrecognisable.values())
+    assert all(int(b) - races.count(c) <= int(a) <= int(b) for c, a, b, _, _ in chapters)
+    assert all(a == b for _, _, _, a, b in chapters)
 
 
 def test_every_number_a_page_marks_is_recorded_by_a_check():

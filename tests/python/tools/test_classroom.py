@@ -211,6 +211,19 @@ def test_starter_has_a_classroom_workflow(tmp_path):
     assert "./course test 02" in workflow
 
 
+def test_a_starter_carries_no_catalogue_of_mistakes_and_says_how_to_check(tmp_path):
+    """The catalogue of mistakes is edits of solution code: no starter carries it (nor
+    its tools: they import it only to measure the mistakes, which a starter cannot).
+    Its README tells a learner without a class how to be graded with a diagnosis."""
+    starter = classroom.release(ROOT, "12_light_sampling", tmp_path / "s")
+    assert not (starter / "grading_catalogue").exists()
+    carried = {p.name for p in starter.rglob("*.py")}
+    assert not carried & {p.name for p in (ROOT / "grading_catalogue").glob("*.py")
+                          if p.name != "__init__.py"}
+    readme = (starter / "README.md").read_text()
+    assert "./course check 12 /path/to/this/folder" in readme
+
+
 def test_a_starter_runs_the_prototype_its_page_shows(tmp_path):
     """Chapter 11's page shows code of python_prototypes/monte_carlo.py: the starter has
     it, with what it imports, and it runs there."""

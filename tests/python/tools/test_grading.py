@@ -15,7 +15,7 @@ from conftest import ROOT
 
 from course_tools.editions import classroom
 from course_tools.grading import grader, grading_specs
-import grading_variants
+import grading_catalogue
 
 COURSE = [sys.executable, str(ROOT / "tools" / "course.py")]
 # Tight limits for the submissions that are meant to hang: the grader must kill them.
@@ -52,7 +52,7 @@ GRADED = sorted(p.name for p in (ROOT / "chapters").iterdir() if p.name[:2] in
 # The chapters graded by statistics grade their solution, unchanged, with their
 # catalogue of variants (test_grading_statistics.py: "the solution as it is" must score
 # full marks there): the same grading, done once.
-WITH_CATALOGUE = set(grading_variants.CATALOGUE)
+WITH_CATALOGUE = set(grading_catalogue.CATALOGUE)
 
 
 def test_references_a_changed_solution_made_are_made_again():
@@ -160,6 +160,47 @@ def test_missing_folders_are_reported(tmp_path):
     assert "no chapters/02_first_pixels/" in results["output"]
 
 
+def test_check_grades_a_learners_folder_and_names_its_mistake(tmp_path):
+    """./course check NN FOLDER, for a learner outside a class: a folder with one of
+    chapter 04's catalogued mistakes fails (exit 1) and its mistake is named with the
+    book's section; the solution's own code passes (exit 0) with no diagnosis; the
+    course's own tree and a folder without the chapter are refused (exit 2)."""
+    variant = next(v for v in grading_catalogue.CATALOGUE["04"]
+                   if not v.correct and not v.held_out)
+    work = grading_catalogue.apply(variant, ROOT, tmp_path / "work")
+    check = [*COURSE, "check", "04"]
+    result = subprocess.run([*check, str(work), "--out", str(tmp_path / "out")],
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 1, result.stderr[-2000:]
+    assert "These pictures look like a known mistake" in result.stdout, result.stdout
+    assert f"- {variant.name}. {variant.explanation}" in result.stdout
+    assert f"chapters/04_spheres/#{variant.anchor}" in result.stdout
+    report = (tmp_path / "out" / "report.md").read_text()
+    assert "## What this looks like" in report and variant.name in report
+    right = solution_copy("04_spheres", tmp_path / "right")
+    result = subprocess.run([*check, str(right), "--out", str(tmp_path / "out2")],
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stdout + result.stderr[-2000:]
+    assert "look like" not in result.stdout
+    for folder, message in ((ROOT, "the course's own tree"),
+                            (tmp_path, "no chapters/04_spheres or shaders/04_spheres")):
+        result = subprocess.run([*check, str(folder)], capture_output=True, text=True,
+                                timeout=900)
+        assert result.returncode == 2 and message in result.stderr, result.stderr
+
+
+def test_check_in_a_starter_says_where_to_run_it(tmp_path, monkeypatch, capsys):
+    """A starter has no solution to compare with (nor the catalogue): ./course check
+    there says to run it from the course's full repository, with this folder."""
+    import argparse
+    from course_tools.cli import commands
+    monkeypatch.setattr(commands, "ROOT", tmp_path)
+    with pytest.raises(SystemExit) as stop:
+        commands.cmd_check(argparse.Namespace(chapter="04", folder=str(tmp_path), out=None))
+    assert stop.value.code == 2
+    assert f"there, run ./course check 04 {tmp_path}" in capsys.readouterr().err
+
+
 def test_a_whole_class_at_once(tmp_path):
     """--submissions grades every folder (here the solution, the starter and one that
     does not compile) into its own results, and sums them up in one CSV."""
@@ -182,6 +223,7 @@ def test_a_whole_class_at_once(tmp_path):
     assert float(rows["carol"]["score"]) == 0
     assert "does not build" in rows["carol"]["notes"]
     assert "compiling main.cpp failed" in rows["carol"]["notes"]
+    assert rows["alice"]["looks like"] == rows["carol"]["looks like"] == ""
     for student in rows:
         results = json.loads((out / student / "results.json").read_text())
         assert results["score"] == float(rows[student]["score"])

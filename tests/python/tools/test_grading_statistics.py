@@ -1,12 +1,15 @@
-"""Statistical grading (tools/course_tools/grading/grading_statistics.py): the z-test on made-up pictures
-whose truth is known, its guards, and the two catalogues of grading_variants.py graded
-for real: every correct-but-different implementation scores at least 90%, every
-plausible wrong one at most half.
+"""Statistical grading (tools/course_tools/grading/grading_statistics.py): the z-test on
+made-up pictures whose truth is known, its guards, and the catalogues of
+grading_catalogue graded for real: every correct-but-different implementation scores at
+least 90% and is diagnosed as no mistake, every plausible wrong one at most half and is
+diagnosed as itself (from seeds its signature was not made from), every held-out one
+(a catalogued mistake written differently) as the mistake it makes.
 
 The catalogues grade each variant with grader.grade, a chapter's two at a time (the
-machine's two cores), and write the scores and times to
-build/test-artifacts/grading-catalogue-NN.txt and .json (the instructors page's table,
-./course test --update-book: tools/course_tools/cli/measured_pages.py)."""
+machine's two cores), after the chapter's mistake signatures (grader.prepare_signatures),
+and write the scores, diagnoses and times to build/test-artifacts/grading-catalogue-NN.txt
+and .json (the instructors page's tables, ./course test --update-book:
+tools/course_tools/cli/measured_pages.py)."""
 
 import json
 import math
@@ -21,9 +24,9 @@ import pytest
 
 from conftest import ROOT, read_pfm, run_chapter
 
-from course_tools.grading import grader
+from course_tools.grading import diagnosis, grader
 from course_tools.grading import grading_statistics as statistics
-import grading_variants
+import grading_catalogue
 from course_tools.grading.grading_specs import SPECS, GradeTest, Sampling
 
 BUILD = ROOT / "build"
@@ -259,40 +262,44 @@ def test_solution_cost_view_decodes_to_whole_steps(tmp_path):
 
 # ---------------------------------------------------------------- the catalogues
 
-CATALOGUES = {"09": "09_random_numbers", "10": "10_scenes", "11": "11_path_tracing",
-              "12": "12_light_sampling",
-              "13": "13_bvh", "14": "14_bvh_sah", "15": "15_metals",
-              "16": "16_glass", "17": "17_lens_textures", "18": "18_environment",
-              "22": "22_path_regeneration", "23": "23_wavefront",
-              "24": "24_participating_media", "25": "25_grid_media",
-              "A1": "A1_fragment_passes", "A2": "A2_gl33_fragment"}
+CATALOGUES = {number: variants[0].chapter
+              for number, variants in sorted(grading_catalogue.CATALOGUE.items())}
 VARIANTS = [v for number, chapter in CATALOGUES.items()
-            for v in (grading_variants.solution(chapter), *grading_variants.CATALOGUE[number])]
+            for v in (grading_catalogue.solution(chapter), *grading_catalogue.CATALOGUE[number])]
 
 
 def test_the_catalogues_cover_every_statistical_chapter():
+    """Every chapter graded by statistics or by its tree has a catalogue, and at least
+    four chapters graded by their pictures alone (for the diagnosis)."""
     statistical = {n for n, tests in SPECS.items()
                    if any(t.kind in statistics.KINDS for t in tests)}
-    assert statistical == set(CATALOGUES)
+    assert statistical <= set(CATALOGUES)
+    assert len(set(CATALOGUES) - statistical) >= 4
     for number in CATALOGUES:
-        kinds = [v.correct for v in grading_variants.CATALOGUE[number]]
+        kinds = [v.correct for v in grading_catalogue.CATALOGUE[number] if not v.held_out]
         assert kinds.count(True) >= 3 and kinds.count(False) >= 4, number
-    assert len(grading_variants.CATALOGUE["12"]) >= 12
+    assert len(grading_catalogue.CATALOGUE["12"]) >= 12
 
 
 def grade_variant(variant, folder: Path) -> tuple[dict, float, dict]:
     """Grades a variant as a student's submission. Its runs are kept (grader.KeptRuns):
     a variant whose files, solution, build and GL are those of an earlier suite run is
-    not rendered again, but its pictures are graded anew."""
+    not rendered again, but its pictures are graded anew. The counts hold the runs
+    replayed and made, and the diagnosis of its measurements whether or not it failed
+    (a correct variant must be diagnosed as nothing even so)."""
     started = time.monotonic()
-    submission = grading_variants.apply(variant, ROOT, folder / "submission")
-    counts = {}
+    submission = grading_catalogue.apply(variant, ROOT, folder / "submission")
+    counts, measured = {}, {}
     results = grader.grade(ROOT, BUILD, variant.chapter, submission, folder / "graded",
-                           keep_runs=True, kept_counts=counts)
+                           keep_runs=True, kept_counts=counts, measured=measured)
+    signatures = grader.load_signatures(BUILD, variant.chapter)
+    diagnosing = time.monotonic()
+    counts["diagnosis"] = diagnosis.diagnose(measured, signatures)
+    counts["diagnosis seconds"] = time.monotonic() - diagnosing
     return results, time.monotonic() - started, counts
 
 
-GRADED: dict[str, dict] = {}  # chapter -> {variant: (results, seconds, kept runs)}
+GRADED: dict[str, dict] = {}  # chapter -> {variant: (results, seconds, counts)}
 
 
 @pytest.fixture
@@ -308,36 +315,67 @@ def catalogue_results(request, tmp_path_factory):
                     and item.originalname == "test_catalogue_variant"
                     and item.callspec.params["variant"].chapter == chapter]
         grader.prepare_references(ROOT, BUILD, chapter)
+        started = time.monotonic()
+        grader.prepare_signatures(ROOT, BUILD, chapter)
+        signing = time.monotonic() - started
         base = tmp_path_factory.mktemp(f"catalogue-{chapter[:2]}")
         started = time.monotonic()
         with ThreadPoolExecutor(max_workers=min(2, os.cpu_count() or 1)) as pool:
             GRADED[chapter] = dict(zip(selected, pool.map(
                 lambda v: grade_variant(v, base / v.slug), selected)))
-        write_summary(chapter, GRADED[chapter], time.monotonic() - started)
+        write_summary(chapter, GRADED[chapter], time.monotonic() - started, signing)
     return GRADED[chapter]
 
 
-def write_summary(chapter: str, graded: dict, seconds: float):
-    """One file per chapter: each variant's share of the points, each test's score."""
+def diagnosed(counts: dict) -> list[str]:
+    found = counts["diagnosis"]
+    return [m["name"] for m in found["matches"]] if found else []
+
+
+def as_meant(variant, counts: dict) -> bool:
+    """Diagnosed as the mistake it makes, or with mistakes declared to have its effect."""
+    names = diagnosed(counts)
+    meant = variant.held_out or variant.name
+    effects = {v.name: v.same_effect for v in grading_catalogue.CATALOGUE[variant.chapter[:2]]
+               if v.same_effect}
+    return bool(names) and meant in names and \
+        all(diagnosis.related(name, meant, effects) for name in names)
+
+
+def write_summary(chapter: str, graded: dict, seconds: float, signing: float):
+    """One file per chapter: each variant's share of the points, each test's score,
+    what the diagnosis named."""
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
     replayed = sum(counts.get("replayed", 0) for _, _, counts in graded.values())
     made = sum(counts.get("made", 0) for _, _, counts in graded.values())
+    signatures = grader.load_signatures(BUILD, chapter) or {}
+    random = any(t.kind == "statistical" for t in SPECS[chapter[:2]])
+    threshold = (f"threshold {signatures.get('threshold', math.nan):.2f} chi-square per "
+                 f"region (textbook bound {signatures.get('theory', math.nan):.2f})"
+                 if random else f"patterns matched up to {diagnosis.PATTERN_MATCH}")
     lines = [f"chapter {chapter}: {len(graded)} variants graded in {seconds:.0f} s "
              f"(two at a time; runs replayed from an earlier suite run: {replayed}, "
-             f"run anew: {made})"]
-    for variant, (results, elapsed, _) in graded.items():
+             f"run anew: {made}); the mistakes' signatures ready in {signing:.0f} s, "
+             f"{threshold}; a diagnosis takes at most "
+             f"{max(c['diagnosis seconds'] for _, _, c in graded.values()):.3f} s"]
+    for variant, (results, elapsed, counts) in graded.items():
         total = sum(t["max_score"] for t in results["tests"])
-        lines.append(f"{'correct' if variant.correct else 'wrong  '} "
-                     f"{results['score'] / total:6.0%}  {elapsed:5.0f} s  {variant.name}")
+        kind = "held-out" if variant.held_out else "correct" if variant.correct else "wrong"
+        lines.append(f"{kind:8} {results['score'] / total:6.0%}  {elapsed:5.0f} s  "
+                     f"{variant.name}  -> diagnosed as: "
+                     f"{'; '.join(diagnosed(counts)) or 'nothing'}")
         lines += [f"            {t['score']:>4} / {t['max_score']:<4} {t['name']}"
                   for t in results["tests"]]
     (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.txt").write_text("\n".join(lines) + "\n")
-    # The same scores for the instructors page's table (tools/course_tools/cli/measured_pages.py).
+    # The same for the instructors page's tables (tools/course_tools/cli/measured_pages.py).
     variants = [{"name": variant.name, "correct": variant.correct,
-                 "score": results["score"] / sum(t["max_score"] for t in results["tests"])}
-                for variant, (results, _, _) in graded.items() if variant.edits]
+                 "held_out": variant.held_out, "recognisable": variant.recognisable,
+                 "score": results["score"] / sum(t["max_score"] for t in results["tests"]),
+                 "diagnosed": diagnosed(counts), "as_meant": as_meant(variant, counts)}
+                for variant, (results, _, counts) in graded.items() if variant.edits]
     (ARTIFACTS / f"grading-catalogue-{chapter[:2]}.json").write_text(
-        json.dumps({"chapter": chapter, "variants": variants}, indent=1) + "\n")
+        json.dumps({"chapter": chapter, "variants": variants,
+                    "confusable": signatures.get("confusable", [])}, indent=1) + "\n")
 
 
 @pytest.mark.parametrize("variant", VARIANTS,
@@ -345,16 +383,34 @@ def write_summary(chapter: str, graded: dict, seconds: float):
                               for v in VARIANTS])
 def test_catalogue_variant(variant, catalogue_results):
     """The solution itself: full marks. Correct but different: at least 90%. Plausibly
-    wrong: at most half."""
-    results, _, _ = catalogue_results[variant]
+    wrong: at most half. The diagnosis (from seeds 1, 2, ..., which the signatures do
+    not use): nothing for a correct variant; a wrong one named as itself or as a
+    mistake declared to have the same effect, and as nothing else (a mistake the
+    catalogue calls not recognisable, a data race, may be named as nothing); a held-out
+    one as the mistake it makes."""
+    results, _, counts = catalogue_results[variant]
     total = sum(t["max_score"] for t in results["tests"])
     scores = {t["name"]: (t["score"], t["output"].splitlines()[0]) for t in results["tests"]}
+    names = diagnosed(counts)
     if not variant.edits:
         assert results["score"] == total, scores
     elif variant.correct:
         assert results["score"] >= 0.9 * total, scores
     else:
         assert results["score"] <= 0.5 * total, scores
+    if variant.correct:
+        assert names == [], names
+        assert "extra_data" not in results or results["score"] < total
+        return
+    meant = variant.held_out or variant.name
+    effects = {v.name: v.same_effect for v in grading_catalogue.CATALOGUE[variant.chapter[:2]]
+               if v.same_effect}
+    assert names or not variant.recognisable, \
+        f"{variant.name}: diagnosed as nothing ({counts['diagnosis']})"
+    assert all(diagnosis.related(name, meant, effects) for name in names), \
+        f"{variant.name}: diagnosed as {names}"
+    assert results["extra_data"]["diagnosis"]["matches"] == counts["diagnosis"]["matches"]
+    assert ("look like" in results["output"]) == bool(names)
 
 
 def test_starter_readme_says_what_the_grader_runs():

@@ -84,13 +84,30 @@ def test_running_a_chapter_needs_no_test_tools():
 def test_every_platform_row_is_complete():
     table = platforms.read_table()
     for key in ("debian-12", "debian-13", "ubuntu-22.04", "ubuntu-24.04", "fedora", "arch",
-                "macos"):
+                "macos", "windows"):
         assert key in table
     for platform in table.values():
-        assert platform.installer in ("apt", "dnf", "pacman", "brew"), platform.key
+        assert platform.installer in ("apt", "dnf", "pacman", "brew", "winget"), platform.key
         assert platform.packages["run"], platform.key
-        assert platform.packages["test"], platform.key
+        if platform.key != "windows":  # the suite runs on Windows through WSL 2
+            assert platform.packages["test"], platform.key
         assert platform.browser, platform.key
+
+
+def test_windows_is_recognised_and_told_what_to_install(monkeypatch):
+    """Windows installs nothing for you: winget's lines and vcpkg's clone are printed."""
+    windows = platforms.detect({}, system="Windows")
+    assert windows.key == "windows" and windows.installer == "winget"
+    steps = windows.install_command(["cmake", "vcpkg"])
+    assert steps[0] == "winget install --id Kitware.CMake --exact"
+    assert any("bootstrap-vcpkg.bat" in step for step in steps)
+    assert any("VCPKG_ROOT" in step for step in steps)
+    monkeypatch.setattr(machine_setup, "is_root", lambda: True)
+    monkeypatch.setattr(windows, "has", lambda package: package != "vcpkg")
+    with pytest.raises(machine_setup.SetupError) as error:
+        machine_setup.ensure_packages(windows, "run")
+    assert error.value.code == machine_setup.MISSING_PACKAGES
+    assert "bootstrap-vcpkg.bat" in str(error.value) and "sudo" not in str(error.value)
 
 
 @pytest.mark.parametrize("release, expected", [
@@ -222,9 +239,28 @@ def test_pip_without_a_package_index_is_a_clear_failure(tmp_path, monkeypatch):
     assert not (tmp_path / "venv" / ".run.sha256").exists()
 
 
+def test_a_browser_download_out_of_reach_is_its_own_failure(tmp_path, monkeypatch):
+    """Playwright's Chromium comes from Playwright's servers, not pip's index: when they
+    cannot be reached, exit 9 says so, and nothing is marked as installed."""
+    monkeypatch.setattr(machine_setup, "VENV", tmp_path / "venv")
+    (tmp_path / "venv").mkdir()
+    ran = []
+
+    def refused(command, **options):
+        ran.append(command)
+        return machine_setup.subprocess.CompletedProcess(command, 1)
+    monkeypatch.setattr(machine_setup.subprocess, "run", refused)
+    with pytest.raises(machine_setup.SetupError) as error:
+        machine_setup.ensure_playwright_browser()
+    assert error.value.code == machine_setup.BROWSER_DOWNLOAD_FAILED
+    assert "Playwright" in str(error.value) and "Chromium" in str(error.value)
+    assert ran and ran[0][1:4] == ["-m", "playwright", "install"]
+    assert not (tmp_path / "venv" / ".playwright-chromium").exists()
+
+
 def test_exit_codes_of_set_up_are_distinct():
     codes = [machine_setup.UNKNOWN_PLATFORM, machine_setup.MISSING_PACKAGES,
              machine_setup.NO_PACKAGE_MANAGER, machine_setup.PYTHON_TOO_OLD,
-             machine_setup.PIP_FAILED]
+             machine_setup.PIP_FAILED, machine_setup.BROWSER_DOWNLOAD_FAILED]
     assert len(set(codes)) == len(codes)
     assert not set(codes) & {0, 1, 3, 4}  # 3 and 4 are the chapter programs' own

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import fcntl
 import os
 import subprocess
 import sys
@@ -50,8 +49,19 @@ def build_lock():
     COURSE_BUILD_LOCK names another lock file, so that two clones on one machine
     can take turns too (two builds at once on a small machine only slow both)."""
     BUILD.mkdir(exist_ok=True)
-    with open(os.environ.get("COURSE_BUILD_LOCK", BUILD / ".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with open(os.environ.get("COURSE_BUILD_LOCK", BUILD / ".lock"), "a+") as lock:
+        if os.name == "nt":
+            import msvcrt  # Windows: a lock on the file's first byte, retried until free
+            lock.seek(0)
+            while True:
+                try:
+                    msvcrt.locking(lock.fileno(), msvcrt.LK_LOCK, 1)
+                    break
+                except OSError:  # LK_LOCK gives up after 10 s; wait on
+                    continue
+        else:
+            import fcntl
+            fcntl.flock(lock, fcntl.LOCK_EX)
         yield
 
 
@@ -64,11 +74,37 @@ def configure(build_type: str = "RelWithDebInfo", build_dir: Path = BUILD,
             cached.get(name) == value for name, value in options.items()):
         return
     say(f"configuring the CMake build in {build_dir.relative_to(ROOT)}")
+    if os.name == "nt" and build_dir == BUILD:
+        # Windows: a preset of CMakePresets.json, whose vcpkg toolchain brings GLFW and
+        # GLM (vcpkg.json) at this first configure.
+        run_checked(["cmake", "--preset", windows_preset(), "-DCMAKE_BUILD_TYPE=" + build_type,
+                     f"-DPython3_EXECUTABLE={sys.executable}",
+                     *(f"-D{name}={value}" for name, value in options.items())],
+                    cwd=ROOT, stdout=sys.stderr)
+        return
     run_checked(["cmake", "-S", str(ROOT), "-B", str(build_dir), "-G", "Ninja",
                  f"-DCMAKE_BUILD_TYPE={build_type}",
                  f"-DPython3_EXECUTABLE={sys.executable}",
                  *(f"-D{name}={value}" for name, value in options.items())],
                 stdout=sys.stderr)
+
+
+def windows_preset() -> str:
+    """The preset for this Windows terminal: COURSE_PRESET when set, else Visual
+    Studio's compiler when cl is on PATH (the Developer PowerShell), else MinGW-w64's."""
+    import shutil
+    chosen = os.environ.get("COURSE_PRESET")
+    if chosen:
+        return chosen
+    if os.environ.get("VCPKG_ROOT") is None:
+        die("VCPKG_ROOT is not set: the Windows build takes GLFW and GLM from vcpkg "
+            "(book: Setup, Windows)", code=5)
+    if shutil.which("cl"):
+        return "windows-msvc"
+    if shutil.which("g++"):
+        return "windows-mingw"
+    die("no C++ compiler on PATH: open the Developer PowerShell for VS 2022 (MSVC), or "
+        "put MinGW-w64's g++ on PATH (book: Setup, Windows)", code=5)
 
 
 # ./course test needs the C++ unit tests, which need the test layer's GoogleTest and
@@ -93,7 +129,7 @@ def run_checked(command: list[str], **kwargs):
 
 
 def binary(name: str) -> Path:
-    return BUILD / "bin" / name
+    return BUILD / "bin" / (name + (".exe" if os.name == "nt" else ""))
 
 
 

@@ -4,6 +4,7 @@ and autograder (the table of verbs, their options and layers: verbs.py)."""
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -170,7 +171,24 @@ def cmd_release(args):
     print(out.resolve())
 
 
+# Exit code of a grading refused because this system cannot isolate a submission.
+NO_ISOLATION = 11
+
+
+def refuse_grading_without_isolation(verb: str):
+    """Grading runs a submission's code, which is untrusted: the sandbox (grading/
+    sandbox.py) isolates it with what Linux gives (another user, namespaces without a
+    network, resource limits). Where that cannot be had, no grading rather than an
+    unisolated one."""
+    if os.name == "nt":
+        die(f"./course {verb} runs a submission's code, and isolates it with what Linux "
+            "gives (another user, no network, resource limits); Windows has none of these "
+            "here, so it refuses rather than run the code unisolated. Grade on Linux, or in "
+            f"WSL 2 (Ubuntu 24.04): wsl ./course {verb} ...", code=NO_ISOLATION)
+
+
 def cmd_grade(args):
+    refuse_grading_without_isolation("grade")
     from course_tools.grading import grader, sandbox
     name = find_chapter(args.chapter)
     if name[:2] not in grader.SPECS:
@@ -217,6 +235,47 @@ def cmd_grade(args):
             failed = grader.failed_results(name, f"not graded: {error}")
             (out / "results.json").write_text(json.dumps(failed, indent=2))
         die(str(error))
+
+
+def cmd_check(args):
+    """./course check NN FOLDER: a learner's own work (a folder shaped like a starter,
+    chapters/NN_name/ and shaders/NN_name/) graded as a class's grader would, hidden
+    tests shown, against this repository's solution; a failing result says which
+    catalogued mistake its pictures look like (tools/course_tools/grading/diagnosis.py)."""
+    refuse_grading_without_isolation("check")
+    from course_tools.grading import diagnosis, grader
+    name = find_chapter(args.chapter)
+    if name[:2] not in grader.SPECS:
+        die(f"chapter {name} has no grading tests yet "
+            "(tools/course_tools/grading/grading_specs.py)", code=2)
+    if not (ROOT / "grading_catalogue").is_dir():
+        die(f"./course check compares your work with the solution, so it runs in the "
+            f"course's full repository, not in a starter: there, run ./course check "
+            f"{name[:2]} {Path(args.folder).resolve()}", code=2)
+    folder = Path(args.folder).resolve()
+    missing = [f"{top}/{name}" for top in ("chapters", "shaders")
+               if not (folder / top / name).is_dir()]
+    if missing:
+        die(f"{folder}: no {' or '.join(missing)} there. Give the folder of your work on "
+            f"chapter {name[:2]} (a starter: ./course release {name[:2]} --out DIR)", code=2)
+    if folder == ROOT.resolve():
+        die(f"{folder} is the course's own tree, whose chapters/{name} is the solution "
+            "the check compares with; give the folder of your own work", code=2)
+    build([name])
+    out = Path(args.out).resolve() if args.out else BUILD / "checks" / name
+    say(f"rendering the solution's references for chapter {name[:2]} (kept for next time)")
+    grader.prepare_references(ROOT, BUILD, name)
+    grader.prepare_signatures(ROOT, BUILD, name, progress=say)
+    results = grader.grade(ROOT, BUILD, name, folder, out, show_hidden=True)
+    grader.print_table(results)
+    found = results.get("extra_data", {}).get("diagnosis")
+    if found is not None:
+        print()
+        print(diagnosis.describe(found))
+    print(f"report: {out / 'report.md'}\nresults: {out / 'results.json'}")
+    total = sum(t["max_score"] for t in results["tests"])
+    if results["score"] < total:
+        sys.exit(1)
 
 
 def cmd_autograder(args):

@@ -1,9 +1,10 @@
 """What the suite measured, written into the pages, never typed: `./course test
 --update-book`, once a whole suite has passed, writes
 
-- the instructors page's table of the grading catalogues, from the files each catalogue
-  run writes (tests/python/tools/test_grading_statistics.py:
-  build/test-artifacts/grading-catalogue-NN.json), between its catalogue markers;
+- the instructors page's tables of the grading catalogues (each variant's score and
+  diagnosis; each chapter's diagnoses counted), from the files each catalogue run
+  writes (tests/python/tools/test_grading_statistics.py:
+  build/test-artifacts/grading-catalogue-NN.json), between their markers;
 - every number a page marks `<!-- number NAME -->0.4241<!-- /number -->`, from the file
   the check that measures it writes (tests/python/page_claims.record:
   build/test-artifacts/page-numbers/NAME.txt).
@@ -27,6 +28,8 @@ PAGES = ROOT / "book" / "docs"
 PAGE = PAGES / "instructors.md"
 START = "<!-- catalogue:start -->"
 END = "<!-- catalogue:end -->"
+DIAGNOSIS_START = "<!-- diagnosis:start -->"
+DIAGNOSIS_END = "<!-- diagnosis:end -->"
 NUMBER = re.compile(r"<!-- number ([A-Za-z0-9_.-]+) -->(.*?)<!-- /number -->")
 
 
@@ -40,21 +43,70 @@ def chapter_order(name: str) -> tuple:
     return (not name[:2].isdigit(), name)
 
 
-def catalogue_table(artifacts: Path, since: float = 0.0) -> str | None:
-    """The markdown table from the catalogue files written after `since` (a time stamp);
-    None when there are none."""
+def catalogues(artifacts: Path, since: float = 0.0) -> list[dict]:
+    """The catalogue files written after `since` (a time stamp), in chapter order."""
     files = sorted((p for p in artifacts.glob("grading-catalogue-*.json")
                     if p.stat().st_mtime >= since),
                    key=lambda p: chapter_order(p.stem.rsplit("-", 1)[1]))
-    if not files:
+    return [json.loads(path.read_text()) for path in files]
+
+
+def variant_kind(variant: dict) -> str:
+    return "held-out" if variant.get("held_out") else \
+        "correct" if variant["correct"] else "wrong"
+
+
+def diagnosed_as(variant: dict) -> str:
+    """What the diagnosis named, in the table's words."""
+    names = variant.get("diagnosed", [])
+    if not names:
+        return "nothing" if variant.get("recognisable", True) else \
+            "nothing (a data race: not recognisable)"
+    meant = variant.get("held_out") or variant["name"]
+    said = "itself" if not variant.get("held_out") else "the mistake it makes"
+    if names == [meant]:
+        return said
+    if variant.get("as_meant"):  # with mistakes the catalogue says have the same effect
+        return f"{said}, with {'; '.join(n for n in names if n != meant)} (the same effect)"
+    return "; ".join(names)
+
+
+def catalogue_table(artifacts: Path, since: float = 0.0) -> str | None:
+    """The markdown table of every catalogued variant: its score and what the diagnosis
+    named; None when no catalogue file is this run's."""
+    found = catalogues(artifacts, since)
+    if not found:
         return None
-    rows = ["| chapter | variant | score |", "|---|---|---|"]
-    for path in files:
-        catalogue = json.loads(path.read_text())
+    rows = ["| chapter | variant | score | diagnosed as |", "|---|---|---|---|"]
+    for catalogue in found:
         for variant in catalogue["variants"]:
-            kind = "correct" if variant["correct"] else "wrong"
-            rows.append(f"| {catalogue['chapter'][:2]} | {kind}: {variant['name']} | "
-                        f"{variant['score']:.0%} |")
+            rows.append(f"| {catalogue['chapter'][:2]} | {variant_kind(variant)}: "
+                        f"{variant['name']} | {variant['score']:.0%} | "
+                        f"{diagnosed_as(variant)} |")
+    return "\n".join(rows)
+
+
+def diagnosis_table(artifacts: Path, since: float = 0.0) -> str | None:
+    """Per chapter: catalogued mistakes recognised from seeds their signatures were not
+    made from, held-out ones recognised, and diagnoses given to correct variants."""
+    found = catalogues(artifacts, since)
+    if not found:
+        return None
+    rows = ["| chapter | mistakes recognised | held-out recognised | "
+            "correct variants diagnosed | cannot be told apart |", "|---|---:|---:|---:|---|"]
+    for catalogue in found:
+        variants = catalogue["variants"]
+        wrong = [v for v in variants if not v["correct"] and not v.get("held_out")]
+        held = [v for v in variants if v.get("held_out")]
+        correct = [v for v in variants if v["correct"]]
+        recognised = sum((v.get("held_out") or v["name"]) in v.get("diagnosed", [])
+                         for v in wrong + held)
+        mine = sum(v["name"] in v.get("diagnosed", []) for v in wrong)
+        pairs = "; ".join(" / ".join(pair) for pair in catalogue.get("confusable", []))
+        rows.append(f"| {catalogue['chapter'][:2]} | {mine} / {len(wrong)} | "
+                    f"{recognised - mine} / {len(held)} | "
+                    f"{sum(bool(v.get('diagnosed')) for v in correct)} / {len(correct)} | "
+                    f"{pairs or 'none'} |")
     return "\n".join(rows)
 
 
@@ -86,6 +138,9 @@ def write(artifacts: Path, since: float, page: Path = PAGE) -> int:
         return 1
     if bench_common.write_table(page, START, END, table):
         print(f"measured pages: wrote the catalogue table into {page}")
+    if bench_common.write_table(page, DIAGNOSIS_START, DIAGNOSIS_END,
+                                diagnosis_table(artifacts, since)):
+        print(f"measured pages: wrote the diagnosis table into {page}")
     written = write_numbers(artifacts, since)
     print(f"measured pages: {len(written)} marked numbers written from this run")
     return 0

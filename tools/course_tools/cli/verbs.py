@@ -147,6 +147,23 @@ def grade_options(parser: argparse.ArgumentParser):
                         "change, and for the course's own suite")
 
 
+def check_options(parser: argparse.ArgumentParser):
+    parser.add_argument("chapter")
+    parser.add_argument("folder", help="your work: a folder with chapters/NN_name/ and "
+                        "shaders/NN_name/ (a starter from ./course release)")
+    parser.add_argument("--out", help="where results.json and report.md go "
+                        "(default: build/checks/NN_name)")
+
+
+def windows_check_options(parser: argparse.ArgumentParser):
+    parser.add_argument("chapter", nargs="?", help="only this chapter's checks")
+
+
+def windows_check_command(args):
+    from course_tools.windows import check  # only when asked for
+    check.cmd_windows_check(args)
+
+
 def autograder_options(parser: argparse.ArgumentParser):
     parser.add_argument("chapter")
     parser.add_argument("--out", help="zip to write")
@@ -180,6 +197,13 @@ VERBS = [
          "chapter's image checks with COURSE_GPU set, measures every chapter's samples per "
          "second, the BVH at a million triangles and the megakernel against the wavefront, "
          "and writes build/gpu-check/report.md (tools/gpu_check.sh runs it)."),
+    Verb("windows-check", "build every chapter for Windows with MinGW-w64 and run their "
+         "image checks under Wine (Debian)", windows_check_options, windows_check_command,
+         "test", "Cross-builds the chapters as Windows programs (cmake --preset "
+         "linux-mingw-cross, GLFW's Windows DLL from a pinned wheel), runs them under Wine "
+         "on a virtual X server, where Wine's OpenGL is Mesa's llvmpipe, and runs the "
+         "chapters' image checks marked 'windows' on their pictures. Installs MinGW-w64, "
+         "Wine and Xvfb from Debian's packages when run as root."),
     Verb("release", "write a student starter for a chapter", release_options, commands.cmd_release,
          "book", "Copies the checkpoint with every BEGIN/END SOLUTION block replaced by its "
          "TODO hint and STUB lines, with the chapter's page rendered against that code "
@@ -188,6 +212,12 @@ VERBS = [
          "grade", "Builds and runs the submission headless in a sandbox (another user, no "
          "network, limits; nothing of the instructor's readable) and compares its images "
          "with the solution's."),
+    Verb("check", "grade your own work on a chapter as a grader would, and name the "
+         "known mistake it looks like", check_options, commands.cmd_check, "grade",
+         "For learners outside a class: your folder (a starter you filled in) is graded "
+         "against this repository's solution, hidden tests shown; where a test fails, the "
+         "report says which of the chapter's catalogued mistakes the pictures look like "
+         "and where the book explains it."),
     Verb("autograder", "build a Gradescope autograder zip", autograder_options,
          commands.cmd_autograder, "grade"),
 ]

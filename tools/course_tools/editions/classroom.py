@@ -39,6 +39,11 @@ the solution's for the same arguments: exactly where there is one right picture,
 statistics where the picture is random (region by region, with your program's own noise,
 at its own seeds), so any correct way of drawing random numbers passes. Passing
 `./course test` is a good sign, not a promise of full marks.
+
+Learning on your own, without a class? In the course's full repository,
+`./course check {number} /path/to/this/folder` grades this folder as a class's grader
+would (hidden tests shown) and, where a test fails, says which known mistake your
+pictures look like and which section of the page explains it.
 """
 
 
@@ -305,18 +310,20 @@ def write_page(root: Path, chapter: str, out: Path, figures: Path | None, title:
 GRADESCOPE_SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, when the autograder image is built: the grading
 # layer only (the build's packages, numpy and matplotlib; no browser, no Mitsuba), the
-# chapter's build, and the reference images its solution renders. Then the solutions
-# leave the image: every chapter carries the code of the chapters before it, so all of
-# chapters/ and shaders/ go, with the programs and objects built from them and the
-# numpy reference renderers. Grading needs only common/, tools/, the build's flags,
-# libraries and generated headers, and build/grading/ (the references).
+# chapter's build, the reference images its solution renders and the signatures of its
+# catalogued mistakes (what a failing report names). Then the solutions leave the
+# image: every chapter carries the code of the chapters before it, so all of chapters/
+# and shaders/ go, with the programs and objects built from them, the numpy reference
+# renderers and the mistakes' catalogue (edits of solution code). Grading needs only
+# common/, tools/, the build's flags, libraries and generated headers, and
+# build/grading/ (the references and signatures).
 set -euo pipefail
 cd /autograder/source/course
 ./course setup grade
 ./course build
 ./course grade {number} --prepare
 for chapter in chapters/*/; do rm -rf "build/CMakeFiles/$(basename "$chapter").dir"; done
-rm -rf chapters shaders build/bin
+rm -rf chapters shaders build/bin grading_catalogue
 # The prototypes are the numpy solutions; the grader reads images with two of them.
 find python_prototypes -name '*.py' ! -name __init__.py ! -name pfm.py ! -name srgb.py -delete
 chmod o-rwx /autograder/source /autograder/source/course

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from course_tools import cmake_cache, reference_cache
-from course_tools.grading import grading_statistics, sandbox
+from course_tools.grading import diagnosis, grading_statistics, sandbox
 from course_tools.grading.sandbox import run_limited
 from course_tools.grading.submission_files import (private_folder, read_regular, submitted_file,
                                                     write_atomically, write_new)
@@ -55,6 +55,7 @@ class Outcome:
     score: float = 0.0
     output: str = ""
     images: dict[str, str] = field(default_factory=dict)
+    measurement: dict | None = None  # what the diagnosis compares (diagnosis.py)
 
 
 # ---------------------------------------------------------------- running things
@@ -585,7 +586,8 @@ def drop_stale_references(root: Path, build: Path, chapter: str):
     folder = private_folder(build / "grading" / chapter)
     maker, mark = reference_maker(root, build, chapter), folder / "made-by"
     if not mark.exists() or mark.read_text() != maker:
-        for stale in [*folder.glob("*.png"), *folder.glob("*.pfm")]:
+        for stale in [*folder.glob("*.png"), *folder.glob("*.pfm"),
+                      *folder.glob(SIGNATURES)]:
             stale.unlink()
         mark.write_text(maker)
 
@@ -605,9 +607,13 @@ def prepare_references(root: Path, build: Path, chapter: str) -> list[Path]:
 
 
 def prepare(root: Path, build: Path, chapter: str) -> list[Path]:
-    """./course grade NN --prepare: the references, and a mark saying that grading may go
-    on without the solution's sources (an autograder image removes them after this)."""
+    """./course grade NN --prepare: the references, the catalogued mistakes' signatures,
+    and a mark saying that grading may go on without the solution's sources (an
+    autograder image removes them after this)."""
     references = prepare_references(root, build, chapter)
+    signatures = prepare_signatures(root, build, chapter)
+    if signatures is not None:
+        references.append(signatures)
     system_libraries(build, chapter)  # the link line, kept beside the references
     (build / "grading" / chapter / "prepared").write_text(
         "".join(f"{p.name}\n" for p in references))
@@ -678,10 +684,12 @@ class KeptRuns:
 
 def grade_test(root: Path, build: Path, chapter: str, program: Path, test: GradeTest,
                workdir: Path, report_dir: Path, extra_args: list[str],
-               kept: KeptRuns | None = None) -> Outcome:
+               kept: KeptRuns | None = None,
+               first_seed: int = grading_statistics.SUBMISSION_SEED) -> Outcome:
     """Runs the submission with the test's arguments plus extra_args (its shader folder);
     the reference is the solution's, with the test's arguments alone. With kept, runs
-    whose inputs have not changed since they were kept are replayed."""
+    whose inputs have not changed since they were kept are replayed. A random picture's
+    runs start at first_seed (the catalogued mistakes' signatures use other seeds)."""
     outcome = Outcome(test)
     copy_inputs(build, test, workdir)
 
@@ -707,9 +715,10 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
             test, outcome, workdir, report_dir,
             run=lambda arguments, out: run(["--headless", *arguments], out),
             references=lambda: statistical_references(root, build, chapter, test),
-            describe=describe_exit)
+            describe=describe_exit, first_seed=first_seed)
 
     out = workdir / f"{test.slug}.png"
+    outcome.measurement = diagnosis.stopped("image", "failed")
     code, output = run(["--headless", *test.args], out)
     # Read once, safely (no link followed), after every process of the run is gone.
     png, problem = submitted_file(out) if code == 0 else (None, "")
@@ -729,6 +738,7 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
                          f"{reference.shape[1]}x{reference.shape[0]}"
         return outcome
     fraction, mean_error = agreement(image, reference)
+    outcome.measurement = diagnosis.image_measurement(image, reference)
     outcome.score = round(test.max_score * image_score(fraction, mean_error), 2)
     outcome.output = (f"{fraction:.2%} of pixels within 2/255 of the reference "
                       f"(full marks from 99.5%), mean error {mean_error:.2f}/255")
@@ -758,12 +768,18 @@ def sensitive_paths(root: Path, build: Path, chapter: str) -> list[Path]:
 
 def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
           show_hidden: bool = False, hide=(), close=(), keep_runs: bool = False,
-          kept_counts: dict | None = None) -> dict:
+          kept_counts: dict | None = None,
+          first_seed: int = grading_statistics.SUBMISSION_SEED,
+          measured: dict | None = None, diagnose: bool = True) -> dict:
     """Grades one submission into out (results.json, report.md, images). hide, close:
     more folders the submission must not see (a class's other submissions and
     results), covered in its mount namespace and closed to other users. keep_runs:
     replay the submission's runs kept from an earlier grading of the same files
-    (KeptRuns); kept_counts, if given, gets how many were replayed and made."""
+    (KeptRuns); kept_counts, if given, gets how many were replayed and made.
+    When a test fails and the chapter's mistake signatures were prepared, the results
+    say which catalogued mistake the pictures look like (diagnosis.py); measured, if
+    given, gets each test's measurement; first_seed moves a random picture's runs to
+    other seeds (the signatures' own runs)."""
     tests = SPECS[chapter[:2]]
     out.mkdir(parents=True, exist_ok=True)
     prepare_references(root, build, chapter)  # as this user, before any student code
@@ -794,20 +810,131 @@ def grade(root: Path, build: Path, chapter: str, submission: Path, out: Path,
             # The submission's shaders, not the solution's (but not for the reference):
             shader_args = ["--shader-dir", str(source / "shaders" / chapter)]
             outcomes.append(grade_test(root, build, chapter, program, test, workdir, out,
-                                       shader_args, kept))
+                                       shader_args, kept, first_seed))
         protections = box.protections() + [f"NOT kept from the submission: {p}"
                                            for p in problems]
     if kept is not None and kept_counts is not None:
         kept_counts.update(replayed=kept.replayed, made=kept.made)
+    measurements = {o.test.slug: o.measurement for o in outcomes
+                    if o.measurement is not None}
+    if measured is not None:
+        measured.update(measurements)
+    found = None
+    if diagnose and any(o.score < o.test.max_score for o in outcomes):
+        found = diagnosis.diagnose(measurements, load_signatures(build, chapter))
+    looks_like = diagnosis.describe(found)
     results = {
         "score": round(sum(o.score for o in outcomes), 2),
-        "output": f"chapter {chapter}" + (f"\n{notes}" if notes else ""),
+        "output": f"chapter {chapter}" + (f"\n{notes}" if notes else "") +
+                  (f"\n\n{looks_like}" if looks_like else ""),
         "tests": [{"name": o.test.name, "score": o.score, "max_score": o.test.max_score,
-                   "output": o.output, "visibility": o.test.visibility} for o in outcomes],
+                   "output": o.output + (f"\n\n{looks_like}" if looks_like and
+                                         o.score < o.test.max_score else ""),
+                   "visibility": o.test.visibility} for o in outcomes],
     }
+    if found is not None:
+        results["extra_data"] = {"diagnosis": found}
     (out / "results.json").write_text(json.dumps(results, indent=2))
-    write_report(out, chapter, outcomes, results, notes, show_hidden, protections)
+    write_report(out, chapter, outcomes, results, notes, show_hidden, protections,
+                 looks_like)
     return results
+
+
+# ---------------------------------------------------------------- the mistakes' signatures
+
+SIGNATURES = "signatures.json"
+
+
+def load_signatures(build: Path, chapter: str) -> dict | None:
+    """What prepare_signatures measured of the chapter's catalogued mistakes, if it ran."""
+    try:
+        return json.loads((build / "grading" / chapter / SIGNATURES).read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
+                       jobs: int = 2) -> Path | None:
+    """build/grading/NN/signatures.json: each catalogued mistake of the chapter
+    (grading_catalogue, the instructor's; the held-out ones left out) graded like a
+    submission, its random pictures at diagnosis.FOLDS sets of seeds no submission
+    uses, with the threshold calibrated on them (diagnosis.calibrate). Made with the
+    references and dropped with them (drop_stale_references); None where the chapter
+    has no catalogue or its solution's sources are gone (an autograder image keeps what
+    --prepare made). Kept in the per-user reference cache too, as the references are,
+    under the solution's, build's and GL's key (reference_maker), the catalogue's and the
+    grader's measuring code's."""
+    drop_stale_references(root, build, chapter)
+    path = build / "grading" / chapter / SIGNATURES
+    try:
+        import grading_catalogue
+    except ImportError:  # a starter: the catalogue holds solution code and stays home
+        return path if path.exists() else None
+    variants = [v for v in grading_catalogue.CATALOGUE.get(chapter[:2], ())
+                if v.chapter == chapter and not v.correct and not v.held_out]
+    if not variants or not (root / "chapters" / chapter).is_dir():
+        return path if path.exists() else None
+    # The catalogue's own words and edits, and how the grader measures, are part of
+    # what made them (beside the solution, build and GL: reference_maker).
+    catalogue = reference_cache.key(
+        repr(variants), *(reference_cache.file_digest(Path(module.__file__))
+                          for module in (diagnosis, grading_statistics)))
+    kept = load_signatures(build, chapter)
+    if kept is not None and kept.get("catalogue") == catalogue:
+        return path
+    private_folder(build / "grading" / chapter)
+    name = reference_cache.key("mistake signatures", reference_maker(root, build, chapter),
+                               catalogue) + ".json"
+    stored = reference_cache.fetch(name) if reference_cache.folder() is not None else None
+    if stored is not None:
+        write_atomically(path, stored)
+        return path
+    prepare_references(root, build, chapter)
+    random = any(t.kind == "statistical" for t in SPECS[chapter[:2]])
+    seeds = diagnosis.FOLD_SEEDS[:diagnosis.FOLDS if random else 1]
+    if progress is not None:
+        progress(f"measuring chapter {chapter}'s {len(variants)} catalogued mistakes "
+                 f"({len(seeds)} set{'s' if len(seeds) > 1 else ''} of runs each), once")
+
+    with tempfile.TemporaryDirectory(prefix="course-signatures-") as scratch:
+        def measure(job):
+            variant, seed = job
+            folder = Path(scratch) / f"{variant.slug}-{seed}"
+            submission = grading_catalogue.apply(variant, root, folder / "submission")
+            measured = {}
+            grade(root, build, chapter, submission, folder / "graded", keep_runs=True,
+                  first_seed=seed, measured=measured, diagnose=False)
+            return variant.name, measured
+
+        right = grading_catalogue.solution(chapter)
+        with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+            graded = list(pool.map(measure, [(v, s) for v in [right, *variants]
+                                             for s in seeds]))
+    folds = {v.name: [m for name, m in graded if name == v.name] for v in variants}
+    calibration = diagnosis.calibrate(
+        folds, {v.name: v.same_effect for v in variants if v.same_effect},
+        remeasure=grading_statistics.diagnosis_measurement,
+        solution=[m for name, m in graded if name == right.name])
+    known = calibration["signatures"]
+    data = {"chapter": chapter, "catalogue": catalogue, "seeds": list(seeds),
+            "threshold": calibration["threshold"], "theory": calibration["theory"],
+            "held_out": calibration["held_out"],
+            "noise_held_out": calibration["noise_held_out"],
+            "confusable": calibration["confusable"],
+            "solution": {"tests": known[diagnosis.SOLUTION],
+                         "threshold": calibration["thresholds"][diagnosis.SOLUTION],
+                         "noise_tolerance": calibration["noise_tolerances"][diagnosis.SOLUTION]},
+            "mistakes": [{"name": v.name, "explanation": v.explanation,
+                          "section": v.section, "anchor": v.anchor,
+                          "same_effect": v.same_effect,
+                          "threshold": calibration["thresholds"][v.name],
+                          "noise_tolerance": calibration["noise_tolerances"][v.name],
+                          "tests": known[v.name]} for v in variants]}
+    payload = json.dumps(data, indent=1).encode()
+    if reference_cache.folder() is not None:
+        reference_cache.store(name, payload)
+    write_atomically(path, payload)
+    return path
 
 
 def failed_results(chapter: str, reason: str) -> dict:
@@ -850,6 +977,7 @@ def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: P
                      if p.is_dir() and not p.is_symlink() and not p.name.startswith("."))
     out.mkdir(parents=True, exist_ok=True)
     prepare_references(root, build, chapter)  # once, before the workers start
+    prepare_signatures(root, build, chapter, progress)
     tests = SPECS[chapter[:2]]
 
     def one(folder: Path) -> tuple[str, dict]:
@@ -876,17 +1004,21 @@ def grade_class(root: Path, build: Path, chapter: str, submissions: Path, out: P
     summary = out / "summary.csv"
     with open(summary, "w", newline="") as sink:
         writer = csv.writer(sink)
-        writer.writerow(["student", "score", "max_score", *(t.name for t in tests), "notes"])
+        writer.writerow(["student", "score", "max_score", *(t.name for t in tests), "notes",
+                         "looks like"])
         for name, results in graded:
             by_name = {t["name"]: t["score"] for t in results["tests"]}
+            found = results.get("extra_data", {}).get("diagnosis") or {"matches": []}
             writer.writerow([name, results["score"], sum(t.max_score for t in tests),
                              *(by_name.get(t.name, 0.0) for t in tests),
-                             summary_notes(results)])
+                             summary_notes(results),
+                             "; ".join(m["name"] for m in found["matches"])])
     return summary
 
 
 def write_report(out: Path, chapter: str, outcomes: list[Outcome], results: dict,
-                 notes: str, show_hidden: bool, protections: list[str] = ()):
+                 notes: str, show_hidden: bool, protections: list[str] = (),
+                 looks_like: str = ""):
     total = sum(o.test.max_score for o in outcomes)
     lines = [f"# Grading report: chapter {chapter}", "",
              f"**Score: {results['score']} / {total}**", ""]
@@ -895,6 +1027,8 @@ def write_report(out: Path, chapter: str, outcomes: list[Outcome], results: dict
     lines += ["| test | score | visibility |", "|---|---|---|"]
     lines += [f"| {o.test.name} | {o.score} / {o.test.max_score} | {o.test.visibility} |"
               for o in outcomes]
+    if looks_like:
+        lines += ["", "## What this looks like", "", looks_like]
     for o in outcomes:
         if o.test.visibility != "visible" and not show_hidden:
             continue

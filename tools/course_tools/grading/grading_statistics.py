@@ -64,6 +64,8 @@ from pathlib import Path
 
 import numpy as np
 
+from course_tools.grading import diagnosis
+from course_tools.grading.blocks import block_sizes, block_sums, edges
 from course_tools.grading.submission_files import submitted_file
 from python_prototypes import srgb
 from python_prototypes.pfm import parse_pfm, read_pfm  # noqa: F401  (the grader reads through here)
@@ -109,11 +111,13 @@ def reference_arguments(test) -> list[list[str]]:
             [run_arguments(test, NOISE_SEED + k, sampling.spp) for k in range(sampling.runs)])
 
 
-def submission_arguments(test) -> list[list[str]]:
+def submission_arguments(test, first_seed: int = SUBMISSION_SEED) -> list[list[str]]:
+    """A submission's runs: at seeds 1, 2, ...; the diagnosis grades the catalogued
+    mistakes at other seeds (diagnosis.FOLD_SEEDS)."""
     if test.kind == "traversal":
         return reference_arguments(test)
     sampling = test.sampling
-    return [run_arguments(test, SUBMISSION_SEED + k, sampling.spp)
+    return [run_arguments(test, first_seed + k, sampling.spp)
             for k in range(sampling.runs)]
 
 
@@ -143,8 +147,8 @@ class Region:
         if self.level == 1:
             return f"the whole image ({colour})"
         return (f"block ({self.row}, {self.column}) of {self.level}x{self.level} "
-                f"({colour}, rows {_edges(shape[0], self.level)[self.row]}..., "
-                f"columns {_edges(shape[1], self.level)[self.column]}...)")
+                f"({colour}, rows {edges(shape[0], self.level)[self.row]}..., "
+                f"columns {edges(shape[1], self.level)[self.column]}...)")
 
 
 @dataclass
@@ -165,27 +169,11 @@ class Comparison:
         return not self.rejected.any()
 
 
-def _edges(size: int, parts: int) -> list[int]:
-    return [size * i // parts for i in range(parts + 1)]
-
-
 def block_levels(height: int, width: int) -> list[int]:
     """The block grids that keep at least MIN_REGION_PIXELS pixels a block (and the
     whole image, however small)."""
     return [n for n in BLOCK_LEVELS if n == 1 or n <= min(height, width) and
             (height // n) * (width // n) >= MIN_REGION_PIXELS]
-
-
-def _block_sums(images: np.ndarray, level: int) -> np.ndarray:
-    """Sums over each block of a level: images (..., H, W, C) -> (..., level, level, C)."""
-    rows, columns = _edges(images.shape[-3], level), _edges(images.shape[-2], level)
-    by_rows = np.add.reduceat(images, rows[:-1], axis=-3)
-    return np.add.reduceat(by_rows, columns[:-1], axis=-2)
-
-
-def _block_sizes(height: int, width: int, level: int) -> np.ndarray:
-    rows, columns = np.diff(_edges(height, level)), np.diff(_edges(width, level))
-    return np.outer(rows, columns)[..., None].astype(np.float64)
 
 
 def region_statistics(runs: np.ndarray, levels: list[int]):
@@ -196,10 +184,10 @@ def region_statistics(runs: np.ndarray, levels: list[int]):
     pixel_variance = runs.var(axis=0, ddof=1) / count  # of each pixel's mean
     result = []
     for level in levels:
-        sizes = _block_sizes(runs.shape[1], runs.shape[2], level)
-        means = _block_sums(mean, level) / sizes
-        pooled = _block_sums(pixel_variance, level) / sizes ** 2
-        between = (_block_sums(runs, level) / sizes).var(axis=0, ddof=1) / count
+        sizes = block_sizes(runs.shape[1], runs.shape[2], level)
+        means = block_sums(mean, level) / sizes
+        pooled = block_sums(pixel_variance, level) / sizes ** 2
+        between = (block_sums(runs, level) / sizes).var(axis=0, ddof=1) / count
         result.append((means, np.maximum(pooled, between)))
     return result
 
@@ -280,6 +268,15 @@ def compare(runs: np.ndarray, reference_runs: np.ndarray,
                       ratio, alike)
 
 
+def diagnosis_measurement(runs: np.ndarray) -> dict:
+    """What the diagnosis compares with the catalogued mistakes (diagnosis.py): the
+    finest blocks' means and their variances, the noise, and the runs themselves (for
+    the calibration's splits; never written out)."""
+    level = block_levels(runs.shape[1], runs.shape[2])[-1:]
+    means, variances = region_statistics(runs, level)[0]
+    return diagnosis.statistical_measurement(means, variances, noise(runs), runs)
+
+
 # ---------------------------------------------------------------- --view cost
 
 def decode_cost(image: np.ndarray) -> tuple[np.ndarray, float]:
@@ -319,7 +316,7 @@ def _finest_z_map(comparison: Comparison, shape) -> np.ndarray:
     """|z| / the rejection threshold on the finest blocks, worst channel, per pixel."""
     level = max(r.level for r in comparison.regions)
     picture = np.zeros(shape[:2])
-    rows, columns = _edges(shape[0], level), _edges(shape[1], level)
+    rows, columns = edges(shape[0], level), edges(shape[1], level)
     for region, z in zip(comparison.regions, comparison.z):
         if region.level == level:
             block = picture[rows[region.row]:rows[region.row + 1],
@@ -331,13 +328,14 @@ def _finest_z_map(comparison: Comparison, shape) -> np.ndarray:
 # ---------------------------------------------------------------- grading
 
 def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
-               describe):
-    """Fills in outcome (score, output, images) for a statistical or traversal test.
-    run(args, out) runs the submission headless with args writing out, returning (exit
-    code, output); references() the solution's PFMs for reference_arguments(test);
-    describe(code) says what an exit code means."""
+               describe, first_seed: int = SUBMISSION_SEED):
+    """Fills in outcome (score, output, images, measurement) for a statistical or
+    traversal test. run(args, out) runs the submission headless with args writing out,
+    returning (exit code, output); references() the solution's PFMs for
+    reference_arguments(test); describe(code) says what an exit code means."""
     images = []
-    for number, arguments in enumerate(submission_arguments(test)):
+    outcome.measurement = diagnosis.stopped(test.kind, "failed")
+    for number, arguments in enumerate(submission_arguments(test, first_seed)):
         out = workdir / f"{test.slug}-{number}.pfm"
         code, output = run(arguments, out)
         what = " ".join(arguments[len(test.args):])
@@ -366,26 +364,31 @@ def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
         return _grade_traversal(test, outcome, report_dir, images, reference)
     return _grade_statistical(test, outcome, report_dir, np.stack(images),
                               np.stack(reference[:test.sampling.reference_runs]),
-                              np.stack(reference[test.sampling.reference_runs:]))
+                              np.stack(reference[test.sampling.reference_runs:]),
+                              first_seed)
 
 
-def _grade_statistical(test, outcome, report_dir, runs, reference_runs, noise_runs):
+def _grade_statistical(test, outcome, report_dir, runs, reference_runs, noise_runs,
+                       first_seed: int = SUBMISSION_SEED):
     sampling = test.sampling
     bad = ~np.isfinite(runs)
     if bad.any():
+        outcome.measurement = diagnosis.stopped("statistical", "nan")
         outcome.output = (f"{int(bad.any(axis=(0, 3)).sum())} pixels are NaN or infinite "
                           "in some run (a division by zero, or 0 * inf?)")
         return outcome
     if (runs < 0).any():
+        outcome.measurement = diagnosis.stopped("statistical", "negative")
         outcome.output = (f"{int((runs < 0).any(axis=(0, 3)).sum())} pixels are negative: "
                           "light is never negative (a sign, or a negative cosine used?)")
         return outcome
     result = compare(runs, reference_runs, noise_runs)
     shape = runs.shape[1:]
     levels = sorted({r.level for r in result.regions})
+    outcome.measurement = diagnosis_measurement(runs)
     lines = [f"{len(result.regions)} region means ({', '.join(f'{n}x{n}' for n in levels)} "
              f"blocks, each channel) of {sampling.runs} runs of {sampling.spp} samples "
-             f"(seeds {SUBMISSION_SEED}..{SUBMISSION_SEED + sampling.runs - 1}) against the "
+             f"(seeds {first_seed}..{first_seed + sampling.runs - 1}) against the "
              f"solution's {sampling.reference_runs} x {sampling.reference_spp} samples; "
              f"a region fails from |z| > {result.threshold_z:.2f} (Holm, family-wise "
              f"alpha {FAMILY_ALPHA:g})",
@@ -431,6 +434,7 @@ def _grade_traversal(test, outcome, report_dir, images, reference):
     lines = []
     # 1. The nearest hits: the same distances as the solution's, whatever the tree.
     if not np.isfinite(distance).all():
+        outcome.measurement = diagnosis.stopped("traversal", "nan")
         outcome.output = "the distance view has NaN or infinite pixels"
         return outcome
     close = np.abs(distance - reference_distance) <= \
@@ -464,6 +468,8 @@ def _grade_traversal(test, outcome, report_dir, images, reference):
                  f"solution's {reference_saturated:.1%} (at most "
                  f"{SATURATED_EXTRA:.0%} more)")
     passed = hits_ok and work_ok and bound_ok
+    outcome.measurement = diagnosis.traversal_measurement(
+        ~np.all(close, axis=-1), (steps - reference_steps) / COST_SCALE)
     lines.insert(0, "passed" if passed else "failed: " + ", ".join(
         what for what, ok in (("not the solution's nearest hits", hits_ok),
                               ("work outside the band", work_ok),

@@ -34,6 +34,7 @@ MISSING_PACKAGES = 5   # not root: the command to run is printed
 NO_PACKAGE_MANAGER = 6
 PYTHON_TOO_OLD = 7     # or without venv
 PIP_FAILED = 8         # usually no network or no proxy
+BROWSER_DOWNLOAD_FAILED = 9  # Playwright's Chromium (Ubuntu's book check) out of reach
 
 
 class SetupError(Exception):
@@ -71,12 +72,21 @@ def is_root() -> bool:
 
 
 def ensure_packages(platform: platforms.Platform, layer: str):
-    missing = platform.missing(layer)
+    install_missing(platform, platform.missing(layer), f"the '{layer}' layer")
+
+
+def ensure_listed_packages(platform: platforms.Platform, packages: list[str], purpose: str):
+    """Installs those of `packages` this machine lacks (as root), or stops with the
+    command to run; `purpose` says what needs them ("the Windows check")."""
+    install_missing(platform, [p for p in packages if not platform.has(p)], purpose)
+
+
+def install_missing(platform: platforms.Platform, missing: list[str], purpose: str):
     if not missing:
         return
     steps = platform.install_command(missing)
-    if platform.installer == "brew" or not is_root():
-        sudo = "" if platform.installer == "brew" else (
+    if platform.installer in ("brew", "winget") or not is_root():
+        sudo = "" if platform.installer in ("brew", "winget") else (
             "sudo " if shutil.which("sudo") else None)
         if sudo is None:
             lines = "\n".join(f"  su -c '{step}'" for step in steps)
@@ -84,14 +94,14 @@ def ensure_packages(platform: platforms.Platform, layer: str):
         else:
             lines = "\n".join(f"  {sudo}{step}" for step in steps)
             how = "install them with"
-        raise SetupError(f"{platform.name} lacks what the '{layer}' layer needs: "
+        raise SetupError(f"{platform.name} lacks what {purpose} needs: "
                          f"{' '.join(missing)}\n{how}\n{lines}\nthen run ./course again",
                          MISSING_PACKAGES)
     if not shutil.which(platform.package_manager()):
         raise SetupError(f"{platform.name} should have {platform.package_manager()}, but it "
                          f"is not on PATH; install these some other way: {' '.join(missing)}",
                          NO_PACKAGE_MANAGER)
-    say(f"installing for the '{layer}' layer: {' '.join(missing)}")
+    say(f"installing for {purpose}: {' '.join(missing)}")
     environment = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
     for step in steps:
         if subprocess.run(step.split(), env=environment, stdout=sys.stderr).returncode != 0:
@@ -165,7 +175,11 @@ def ensure_playwright_browser():
     if is_root():
         command.insert(-1, "--with-deps")
     if subprocess.run(command, stdout=sys.stderr).returncode != 0:
-        raise SetupError("Playwright could not install its Chromium (no network?)", PIP_FAILED)
+        raise SetupError("Playwright could not download its Chromium for the book's browser "
+                         "check (its message is above): Playwright fetches it from its own "
+                         "servers, not from pip's index, so a network that reaches pip may "
+                         "still not reach them; everything before the test layer's browser "
+                         "is set up", BROWSER_DOWNLOAD_FAILED)
     stamp.write_text("installed\n")
 
 

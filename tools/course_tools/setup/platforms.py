@@ -23,6 +23,12 @@ INCLUDES = {"run": ("run",), "book": ("run", "book"), "grade": ("run", "grade"),
             "test": ("run", "book", "grade", "test")}
 # Homebrew formulae that are programs: any copy on PATH will do (the formula is "python").
 BREW_PROGRAMS = {"cmake": "cmake", "ninja": "ninja", "python": "python3"}
+# Windows: what each program of the row is on PATH, and the winget package that brings it
+# (vcpkg is a clone of its repository, bootstrapped, named by VCPKG_ROOT).
+WINDOWS_PROGRAMS = {"cmake": "cmake", "ninja": "ninja", "git": "git", "python": "python",
+                    "vcpkg": "vcpkg"}
+WINGET_IDS = {"cmake": "Kitware.CMake", "ninja": "Ninja-build.Ninja", "git": "Git.Git",
+              "python": "Python.Python.3.12"}
 
 
 @dataclass
@@ -48,6 +54,10 @@ class Platform:
     def has(self, package: str) -> bool:
         if self.installer == "brew" and package in BREW_PROGRAMS:
             return shutil.which(BREW_PROGRAMS[package]) is not None
+        if self.installer == "winget":
+            if package == "vcpkg" and os.environ.get("VCPKG_ROOT"):
+                return (Path(os.environ["VCPKG_ROOT"]) / "vcpkg.exe").exists()
+            return shutil.which(WINDOWS_PROGRAMS.get(package, package)) is not None
         query = {
             "apt": ["dpkg-query", "-W", "-f=${Status}", package],
             "dnf": ["rpm", "-q", "--whatprovides", package],
@@ -65,6 +75,15 @@ class Platform:
     def install_command(self, packages: list[str]) -> list[str]:
         """One shell command line per step, without sudo."""
         names = " ".join(packages)
+        if self.installer == "winget":
+            steps = [f"winget install --id {WINGET_IDS[name]} --exact"
+                     for name in packages if name in WINGET_IDS]
+            if "vcpkg" in packages:
+                steps += ["git clone https://github.com/microsoft/vcpkg $HOME\\vcpkg",
+                          "$HOME\\vcpkg\\bootstrap-vcpkg.bat -disableMetrics",
+                          "[Environment]::SetEnvironmentVariable('VCPKG_ROOT', "
+                          "\"$HOME\\vcpkg\", 'User')   # then open a new terminal"]
+            return steps
         return {
             "apt": ["apt-get update", f"apt-get install -y --no-install-recommends {names}"],
             "dnf": [f"dnf install -y {names}"],
@@ -73,8 +92,8 @@ class Platform:
         }[self.installer]
 
     def package_manager(self) -> str:
-        return {"apt": "apt-get", "dnf": "dnf", "pacman": "pacman", "brew": "brew"}[
-            self.installer]
+        return {"apt": "apt-get", "dnf": "dnf", "pacman": "pacman", "brew": "brew",
+                "winget": "winget"}[self.installer]
 
 
 def read_table(path: Path = TABLE) -> dict[str, Platform]:
@@ -113,6 +132,8 @@ def identify(release: dict[str, str] | None = None, system: str | None = None) -
     system = system or host.system()
     if system == "Darwin":
         return "darwin", host.mac_ver()[0]
+    if system == "Windows":
+        return "windows", host.release()
     release = os_release() if release is None else release
     return release.get("ID", "unknown"), release.get("VERSION_ID", "")
 

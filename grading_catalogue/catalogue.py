@@ -1,62 +1,17 @@
-"""Two catalogues of submissions for the statistical grading (tools/course_tools/grading/grading_statistics.py):
-correct implementations that differ from the solution (other random numbers, another
-valid mapping or weighting), which must each score at least 90%, and plausible wrong
-ones, which must each score at most half. Each is a few find-and-replace edits on a copy
-of the solution's chapters/NN and shaders/NN; test_grading_statistics.py grades them.
-
-An edit names its file (relative to the chapter's shader or host folder), the exact
-text it replaces and what replaces it; applying one that finds nothing, or finds the
-text more than `count` times, fails (so a catalogue that drifts from the solution
-says so instead of grading the solution again)."""
+"""The catalogues of submissions for the statistical and traversal grading
+(tools/course_tools/grading/grading_statistics.py), chapter by chapter: correct
+implementations that differ from the solution (other random numbers, another valid
+mapping or weighting), which must each score at least 90%, and plausible wrong ones,
+which must each score at most half and which the grader's diagnosis names
+(tools/course_tools/grading/diagnosis.py). Each is a few find-and-replace edits on a copy
+of the solution's chapters/NN and shaders/NN (grading_catalogue/variant.py);
+tests/python/tools/test_grading_statistics.py grades them."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from pathlib import Path
+from grading_catalogue.variant import Edit, Variant
 
-
-@dataclass(frozen=True)
-class Edit:
-    file: str   # "shaders/sampling.glsl" or "chapters/bvh.cpp": the chapter's folder
-    old: str
-    new: str
-    count: int = 1
-
-
-@dataclass(frozen=True)
-class Variant:
-    chapter: str
-    name: str
-    correct: bool
-    edits: tuple[Edit, ...] = field(default_factory=tuple)
-
-    @property
-    def slug(self) -> str:
-        return "".join(c if c.isalnum() else "_" for c in self.name.lower())[:60]
-
-
-def solution(chapter: str) -> Variant:
-    """The solution itself, unchanged: graded with its catalogue, it must score full
-    marks (test_grading.py's check of the solution, for these chapters)."""
-    return Variant(chapter, "the solution as it is", True, ())
-
-
-def apply(variant: Variant, root: Path, destination: Path) -> Path:
-    """Copies the solution's chapter folders into destination and applies the edits."""
-    import shutil
-    for top in ("chapters", "shaders"):
-        shutil.copytree(root / top / variant.chapter, destination / top / variant.chapter)
-    for edit in variant.edits:
-        top, name = edit.file.split("/", 1)
-        path = destination / top / variant.chapter / name
-        text = path.read_text()
-        found = text.count(edit.old)
-        assert found == edit.count, \
-            f"{variant.name}: {edit.file} has {found} of {edit.old!r}, expected {edit.count}"
-        changed = text.replace(edit.old, edit.new)
-        assert changed != text, f"{variant.name}: the edit of {edit.file} changed nothing"
-        path.write_text(changed)
-    return destination
+CATALOGUE: dict[str, list[Variant]] = {}
 
 
 # ---------------------------------------------------------------- chapter 11
@@ -103,20 +58,44 @@ CHAPTER_11 = [
              "max(dot(hit.normal, direction), 0.0);\n"))),
 
     Variant(P, "uniform hemisphere directions treated as cosine-distributed", False, (
-        Edit("shaders/sampling.glsl", COSINE, UNIFORM),)),
+        Edit("shaders/sampling.glsl", COSINE, UNIFORM),),
+        explanation=("Directions are drawn uniformly but weighted as if cosine-distributed, so "
+                     "light at a slant is overcounted."),
+        section="Cosine sampling"),
     Variant(P, "the BSDF's 1/pi kept in the throughput", False, (
         Edit("shaders/path.comp", THROUGHPUT,
-             "        throughput *= material.albedo.rgb / PI;\n"),)),
+             "        throughput *= material.albedo.rgb / PI;\n"),),
+        explanation=("With cosine sampling the pi of f = albedo/pi cancels the pdf's; keeping "
+                     "it darkens every bounce by pi."),
+        section="Cosine sampling"),
     Variant(P, "the cosine multiplied in as well as sampled", False, (
         Edit("shaders/path.comp", THROUGHPUT,
              "        throughput *= material.albedo.rgb * "
-             "max(dot(hit.normal, direction), 0.0);\n"),)),
+             "max(dot(hit.normal, direction), 0.0);\n"),),
+        explanation=("Cosine sampling already accounts for cos(theta); multiplying it in again "
+                     "darkens all bounced light."),
+        section="Cosine sampling"),
     Variant(P, "one bounce too many", False, (
         Edit("shaders/path.comp", BOUNCE_END,
-             "if (!hit.front || bounce == maxBounces + 1) break;"),)),
+             "if (!hit.front || bounce == maxBounces + 1) break;"),),
+        explanation=("The path makes one bounce more than --depth allows, so it gathers too "
+                     "much indirect light."),
+        section="The path loop"),
     Variant(P, "one bounce too few", False, (
         Edit("shaders/path.comp", BOUNCE_END,
-             "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
+             "if (!hit.front || bounce + 1 == maxBounces) break;"),),
+        explanation=("Stopping one bounce short of --depth loses the light of the last bounce: "
+                     "the picture is too dark."),
+        section="The path loop"),
+    # Held out (the diagnosis must name "one bounce too many"): the loop counted from -1,
+    # so the break at maxBounces comes after maxBounces + 1 bounces, as that one's does.
+    Variant(P, "one bounce too many (the loop counted from -1)", False, (
+        Edit("shaders/path.comp", "for (int bounce = 0;; ++bounce)",
+             "for (int bounce = -1;; ++bounce)"),),
+        explanation=("The path makes one bounce more than --depth allows, so it gathers too "
+                     "much indirect light."),
+        section="The path loop",
+        held_out="one bounce too many"),
 ]
 
 
@@ -166,30 +145,65 @@ CHAPTER_12 = [
 
     Variant(T, "light density off by a factor of pi", False, (
         Edit("shaders/sampling.glsl", LIGHT_PDF,
-             "    return areaPdf * distance * distance / cosLight / PI;\n"),)),
+             "    return areaPdf * distance * distance / cosLight / PI;\n"),),
+        explanation=("The light's density is divided by an extra pi, so shadow rays bring back "
+                     "too much light."),
+        section="Next-event estimation"),
     Variant(T, "no cosine at the light", False, (
         Edit("shaders/sampling.glsl", LIGHT_PDF,
-             "    return areaPdf * distance * distance;\n"),)),
+             "    return areaPdf * distance * distance;\n"),),
+        explanation=("A light's density per steradian needs its cosine (dA cos / d^2); without "
+                     "it, slanted light is too bright."),
+        section="Next-event estimation"),
     Variant(T, "light density not divided by the number of lights", False, (
         Edit("shaders/sampling.glsl",
              "1.0 / (float(emitters.length()) * emitters[emitter].area)",
-             "1.0 / emitters[emitter].area"),)),
+             "1.0 / emitters[emitter].area"),),
+        explanation=("Picking one of N lights has chance 1/N; leaving it out of the light's "
+                     "density makes direct light too bright."),
+        section="Next-event estimation"),
     Variant(T, "MIS: a light hit by a bounce counted in full (weights sum to more than 1)",
-            False, (Edit("shaders/path.comp", HIT_WEIGHT, "weight = 1.0;"),)),
+            False, (Edit("shaders/path.comp", HIT_WEIGHT, "weight = 1.0;"),),
+        explanation=("A light that a bounce runs into needs its MIS weight too; counted in "
+                     "full, it is added twice (too bright)."),
+        section="Multiple importance sampling"),
     Variant(T, "MIS: next-event weight with the densities swapped (weights do not sum to 1)",
             False, (Edit("shaders/path.comp", "powerHeuristic(pdf, cosSurface / PI)",
-                         "powerHeuristic(cosSurface / PI, pdf)"),)),
+                         "powerHeuristic(cosSurface / PI, pdf)"),),
+        explanation=("In the shadow ray's weight its own density comes first; swapped, the two "
+                     "MIS weights no longer add up to 1."),
+        section="Multiple importance sampling"),
     Variant(T, "Russian roulette without the division by the survival probability", False, (
-        Edit("shaders/path.comp", "            throughput /= survival;\n", ""),)),
+        Edit("shaders/path.comp", "            throughput /= survival;\n", ""),),
+        explanation=("Paths that survive Russian roulette must carry 1 / survival more; "
+                     "without it indirect light is too dark."),
+        section="Russian roulette"),
     Variant(T, "one bounce too many", False, (
         Edit("shaders/path.comp", BOUNCE_END,
-             "if (!hit.front || bounce == maxBounces + 1) break;"),)),
+             "if (!hit.front || bounce == maxBounces + 1) break;"),),
+        explanation=("The path makes one bounce more than --depth allows, so it gathers too "
+                     "much indirect light."),
+        section="How it is checked"),
     Variant(T, "one bounce too few", False, (
         Edit("shaders/path.comp", BOUNCE_END,
-             "if (!hit.front || bounce + 1 == maxBounces) break;"),)),
+             "if (!hit.front || bounce + 1 == maxBounces) break;"),),
+        explanation=("Stopping one bounce short of --depth loses the light of the last bounce: "
+                     "the picture is too dark."),
+        section="How it is checked"),
+    # Held out: the extra pi put into the area density instead of the returned value;
+    # lightPdf, for NEE and for the MIS weights alike, is pi times too small either way.
+    Variant(T, "light density off by a factor of pi (written another way)", False, (
+        Edit("shaders/sampling.glsl",
+             "1.0 / (float(emitters.length()) * emitters[emitter].area)",
+             "1.0 / (PI * float(emitters.length()) * emitters[emitter].area)"),),
+        explanation=("The light's density is divided by an extra pi, so shadow rays bring back "
+                     "too much light."),
+        section="Next-event estimation",
+        held_out="light density off by a factor of pi"),
 ]
 
-CATALOGUE = {"11": CHAPTER_11, "12": CHAPTER_12}
+CATALOGUE["11"] = CHAPTER_11
+CATALOGUE["12"] = CHAPTER_12
 
 
 # ---------------------------------------------------------------- chapter 09
@@ -218,14 +232,23 @@ CHAPTER_09 = [
 
     Variant(N, "one random number for both coordinates of the jitter", False, (
         Edit("shaders/trace.comp", JITTER, "    float u = random01(random);\n"
-             "    vec2 pointInPixel = vec2(u);\n"),)),
+             "    vec2 pointInPixel = vec2(u);\n"),),
+        explanation=("With one random number for both x and y, every jittered point lies on "
+                     "the pixel's diagonal."),
+        section="Anti-aliasing: a random point in the pixel"),
     Variant(N, "jitter around the pixel's corner, in [-0.5, 0.5)", False, (
         Edit("shaders/trace.comp", JITTER, "    vec2 pointInPixel = vec2(random01(random), "
-             "random01(random)) - 0.5;\n"),)),
+             "random01(random)) - 0.5;\n"),),
+        explanation=("Jittering in [-0.5, 0.5) instead of [0, 1) shifts the whole picture by "
+                     "half a pixel."),
+        section="Anti-aliasing: a random point in the pixel"),
     Variant(N, "generator without its LCG", False, (
         Edit("shaders/random.glsl", "         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u)"
              "\n         ^ lcgStep(state.words.w);",
-             "         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u);"),)),
+             "         ^ tausStep(state.words.z, 3, 11, 17, 4294967280u);"),),
+        explanation=("Hybrid Taus XORs three Tausworthe steps and an LCG; without the LCG the "
+                     "stream is another, weaker one."),
+        section="A generator per pixel"),
     Variant(N, "generator whose state never advances", False, (
         Edit("shaders/random.glsl", "    return tausStep(state.words.x,",
              "    RandomState copy = state;\n    return tausStep(copy.words.x,"),
@@ -234,9 +257,15 @@ CHAPTER_09 = [
         Edit("shaders/random.glsl", "         ^ tausStep(state.words.z,",
              "         ^ tausStep(copy.words.z,"),
         Edit("shaders/random.glsl", "         ^ lcgStep(state.words.w);",
-             "         ^ lcgStep(copy.words.w);"))),
+             "         ^ lcgStep(copy.words.w);")),
+        explanation=("Stepping a copy leaves the state as it was: every call returns the same "
+                     "number, so noise never averages."),
+        section="A generator per pixel"),
     Variant(N, "a Tausworthe step with a wrong shift", False, (
-        Edit("shaders/random.glsl", TAUS_X, TAUS_X.replace("13, 19, 12", "13, 19, 13")),)),
+        Edit("shaders/random.glsl", TAUS_X, TAUS_X.replace("13, 19, 12", "13, 19, 13")),),
+        explanation=("One Tausworthe step shifts by the wrong amount, so the numbers are not "
+                     "the generator's stream."),
+        section="A generator per pixel"),
 ]
 
 CATALOGUE["09"] = CHAPTER_09
@@ -276,15 +305,27 @@ CHAPTER_10 = [
     float radius = sqrt(1.0 - height * height), angle = 2.0 * PI * random01(random);
 """),
         Edit("shaders/trace.comp", "         + sqrt(max(0.0, 1.0 - radius * radius)) * normal;",
-             "         + height * normal;"))),
+             "         + height * normal;")),
+        explanation=("Occlusion rays go in cosine-weighted directions; uniform ones give the "
+                     "horizon too much say."),
+        section="The preview: glow plus colour times occlusion"),
     Variant(S, "occlusion ignored: albedo everywhere", False, (
         Edit("shaders/trace.comp", PREVIEW,
-             "    return material.emission.rgb + material.albedo.rgb;\n"),)),
+             "    return material.emission.rgb + material.albedo.rgb;\n"),),
+        explanation=("The preview multiplies the albedo by the occlusion; without it corners "
+                     "and contact shadows stay bright."),
+        section="The preview: glow plus colour times occlusion"),
     Variant(S, "glow left out", False, (
-        Edit("shaders/trace.comp", PREVIEW, "    return material.albedo.rgb * occlusion;\n"),)),
+        Edit("shaders/trace.comp", PREVIEW, "    return material.albedo.rgb * occlusion;\n"),),
+        explanation=("Each surface's emission belongs in the preview; left out, lamps show "
+                     "only their colour times occlusion."),
+        section="The preview: glow plus colour times occlusion"),
     Variant(S, "quads twice as large (edge coordinates up to 2)", False, (
         Edit("shaders/scene.glsl", QUAD_INSIDE,
-             "    return a >= 0.0 && a <= 2.0 && b >= 0.0 && b <= 2.0;\n"),)),
+             "    return a >= 0.0 && a <= 2.0 && b >= 0.0 && b <= 2.0;\n"),),
+        explanation=("A point is on a quad when both edge coordinates are in [0, 1]; up to 2, "
+                     "quads reach twice as far."),
+        section="Spheres and quads"),
 ]
 
 CATALOGUE["10"] = CHAPTER_10
@@ -317,18 +358,30 @@ CHAPTER_13 = [
              "    float exit = min(min(min(tFar.x, tFar.y), tFar.z), tMax);\n"),)),
 
     Variant(B, "slab test that enters every box", False, (
-        Edit("shaders/bvh_traversal.glsl", SLAB_RETURN, "    return enter;\n"),)),
+        Edit("shaders/bvh_traversal.glsl", SLAB_RETURN, "    return enter;\n"),),
+        explanation=("The slab test never reports a miss, so rays visit boxes they pass "
+                     "beside: the right picture, far more work."),
+        section="Walking the tree on the GPU"),
     Variant(B, "slab test that ignores the direction's signs", False, (
         Edit("shaders/bvh_traversal.glsl", SLAB_PLANES, """    vec3 tNear = (boxMin - ray.origin) * ray.inverseDirection;
     vec3 tFar = (boxMax - ray.origin) * ray.inverseDirection;
-"""),)),
+"""),),
+        explanation=("For a ray running towards -x the max plane is the near one; ignoring the "
+                     "signs, such rays miss boxes."),
+        section="Walking the tree on the GPU"),
     Variant(B, "slab test with near and far planes swapped", False, (
         Edit("shaders/bvh_traversal.glsl", SLAB_PLANES,
              SLAB_PLANES.replace("mix(boxMin, boxMax", "mix(boxMax, boxMin", 1)
-             .replace("farPlanes = mix(boxMax, boxMin", "farPlanes = mix(boxMin, boxMax")),)),
+             .replace("farPlanes = mix(boxMax, boxMin", "farPlanes = mix(boxMin, boxMax")),),
+        explanation=("With the near and far planes swapped a ray seems to leave each slab "
+                     "before entering it, and misses boxes."),
+        section="Walking the tree on the GPU"),
     Variant(B, "slab test that returns where the ray leaves the box", False, (
         Edit("shaders/bvh_traversal.glsl", SLAB_RETURN,
-             "    return enter <= exit * 1.0000004 ? exit : BVH_MISS;\n"),)),
+             "    return enter <= exit * 1.0000004 ? exit : BVH_MISS;\n"),),
+        explanation=("Returning where the ray leaves the box instead of where it enters prunes "
+                     "boxes that hold nearer hits."),
+        section="Walking the tree on the GPU"),
 ]
 
 CATALOGUE["13"] = CHAPTER_13
@@ -360,19 +413,33 @@ CHAPTER_14 = [
 
     Variant(H, "SAH without the triangles (a node's cost only)", False, (
         Edit("chapters/bvh.cpp", SAH,
-             "            double cost = options_.nodeCost * box.halfArea();\n"),)),
+             "            double cost = options_.nodeCost * box.halfArea();\n"),),
+        explanation=("With only the node's cost every split costs the same, so the first "
+                     "candidate wins and the tree is poor."),
+        section="Building the tree with the surface area heuristic"),
     Variant(H, "SAH with each side's count on the other side's area", False, (
         Edit("chapters/bvh.cpp", SAH, SAH.replace("leftCount +", "rightCount +")
-             .replace("* rightCount);", "* leftCount);")),)),
+             .replace("* rightCount);", "* leftCount);")),),
+        explanation=("Each side's triangle count goes with that side's own area; swapped, the "
+                     "heuristic prefers bad splits."),
+        section="Building the tree with the surface area heuristic"),
     Variant(H, "SAH that counts triangles but forgets the areas", False, (
         Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost * box.halfArea() +
                           options_.triangleCost * (leftCount + rightCount) *
                                                    box.halfArea();
-"""),)),
+"""),),
+        explanation=("Without the children's areas every split costs the same and never beats "
+                     "a leaf: the tree splits blindly."),
+        section="Building the tree with the surface area heuristic",
+        # Both make every split cost the same: no better than a list, the heat map at its top.
+        same_effect="SAH without the triangles (a node's cost only)"),
     Variant(H, "SAH that weighs the areas but forgets the counts", False, (
         Edit("chapters/bvh.cpp", SAH, """            double cost = options_.nodeCost * box.halfArea() +
                           options_.triangleCost * (left.halfArea() + rightAreas_[bin]);
-"""),)),
+"""),),
+        explanation=("Without the triangle counts the heuristic favours small boxes however "
+                     "many triangles they hold."),
+        section="Building the tree with the surface area heuristic"),
 ]
 
 CATALOGUE["14"] = CHAPTER_14
@@ -417,22 +484,49 @@ CHAPTER_15 = [
              "    vec2 p = squareToDisk(u.yx);\n"),)),
 
     Variant(M, "conductor Fresnel with eta and k swapped", False, (
-        Edit("shaders/microfacet.glsl", "vec2 n = vec2(eta, k)", "vec2 n = vec2(k, eta)"),)),
+        Edit("shaders/microfacet.glsl", "vec2 n = vec2(eta, k)", "vec2 n = vec2(k, eta)"),),
+        explanation=("A metal's complex index is eta + i k; with the two swapped it reflects "
+                     "the wrong amount and colour."),
+        section="The Fresnel equations of a metal"),
     Variant(M, "the pdf without the reflection's Jacobian 1 / (4 wo.m)", False, (
         Edit("shaders/microfacet.glsl",
              "return visibleNormalPdf(wi, m, alpha) / (4.0 * dot(wo, m));",
-             "return visibleNormalPdf(wi, m, alpha);"),)),
+             "return visibleNormalPdf(wi, m, alpha);"),),
+        explanation=("Without the reflection's Jacobian 1 / (4 wo.m) the pdf is too large, so "
+                     "rough metals come out too dark."),
+        section="Sampling the visible normals"),
     Variant(M, "the half vector not normalised", False, (
         Edit("shaders/microfacet.glsl", "    vec3 m = normalize(wi + wo);\n    float value",
-             "    vec3 m = wi + wo;\n    float value"),)),
+             "    vec3 m = wi + wo;\n    float value"),),
+        explanation=("D, G and F need the half vector normalised; unnormalised, rough "
+                     "highlights come out far too dark."),
+        section="Rough metals: a sea of tiny mirrors"),
     Variant(M, "Smith's Lambda with alpha where alpha^2 belongs", False, (
         Edit("shaders/microfacet.glsl", LAMBDA,
-             LAMBDA.replace("alpha * alpha * tanSquared", "alpha * tanSquared")),)),
+             LAMBDA.replace("alpha * alpha * tanSquared", "alpha * tanSquared")),),
+        explanation=("Smith's Lambda takes alpha^2 tan^2(theta); with alpha instead, rough "
+                     "metals are masked too much."),
+        section="Rough metals: a sea of tiny mirrors"),
     Variant(M, "GGX D without its 1 / pi", False, (
         Edit("shaders/microfacet.glsl", D_VALUE,
-             "    return 1.0 / (alpha2 * stretched * stretched);\n"),)),
+             "    return 1.0 / (alpha2 * stretched * stretched);\n"),),
+        explanation=("GGX's D needs its 1/pi for the microfacets' areas to add up; without it "
+                     "rough metals are too bright."),
+        section="Rough metals: a sea of tiny mirrors"),
     Variant(M, "light after a mirror MIS-weighted as if NEE had looked there", False, (
-        Edit("shaders/path.comp", "afterDelta = isDelta(material);", "afterDelta = false;"),)),
+        Edit("shaders/path.comp", "afterDelta = isDelta(material);", "afterDelta = false;"),),
+        explanation=("NEE skips mirrors, so light reached through one counts in full; "
+                     "MIS-weighting it darkens lamps in mirrors."),
+        section="Delta BSDFs in the path loop"),
+    # Held out: the same Lambda (alpha, not alpha^2) in the closed form of G1,
+    # 1 / (1 + (sqrt(1 + x) - 1) / 2) = 2 / (1 + sqrt(1 + x)).
+    Variant(M, "G1 as 2 / (1 + sqrt(1 + alpha tan^2)): alpha for alpha^2", False, (
+        Edit("shaders/microfacet.glsl", LAMBDA + "    return 1.0 / (1.0 + lambda);\n",
+             "    return 2.0 / (1.0 + sqrt(1.0 + alpha * tanSquared));\n"),),
+        explanation=("Smith's Lambda takes alpha^2 tan^2(theta); with alpha instead, rough "
+                     "metals are masked too much."),
+        section="Rough metals: a sea of tiny mirrors",
+        held_out="Smith's Lambda with alpha where alpha^2 belongs"),
 ]
 
 CATALOGUE["15"] = CHAPTER_15
@@ -469,24 +563,55 @@ CHAPTER_16 = [
 
     Variant(GL, "Fresnel with the indices swapped (eta_i / eta_t for eta_t / eta_i)", False, (
         Edit("shaders/dielectric.glsl", "float etaIT = fromOutside ? eta : 1.0 / eta;",
-             "float etaIT = fromOutside ? 1.0 / eta : eta;"),)),
+             "float etaIT = fromOutside ? 1.0 / eta : eta;"),),
+        explanation=("From outside eta_t / eta_i is eta, from inside 1 / eta; swapped, glass "
+                     "bends and reflects inside out."),
+        section="How light divides at a boundary"),
     Variant(GL, "Snell's law with eta_t / eta_i: rays bend the wrong way", False, (
         Edit("shaders/dielectric.glsl", REFRACTION,
              REFRACTION.replace("cosT * m - etaTI * alongSurface",
-                                "cosT * m - (1.0 / etaTI) * alongSurface")),)),
+                                "cosT * m - (1.0 / etaTI) * alongSurface")),),
+        explanation=("Snell's law shrinks the surface part by eta_i / eta_t; with eta_t / "
+                     "eta_i, refracted rays bend the wrong way."),
+        section="How light divides at a boundary"),
     Variant(GL, "the refracted direction's surface part not turned round", False, (
         Edit("shaders/dielectric.glsl", REFRACTION,
-             REFRACTION.replace("cosT * m - etaTI", "cosT * m + etaTI")),)),
+             REFRACTION.replace("cosT * m - etaTI", "cosT * m + etaTI")),),
+        explanation=("The refracted ray's part along the surface must turn round; without "
+                     "that, rays go through mirrored."),
+        section="How light divides at a boundary"),
     Variant(GL, "no case for total internal reflection (cos theta_t is NaN)", False, (
         Edit("shaders/dielectric.glsl",
              "    if (sinTSquared >= 1.0) return Fresnel(1.0, 0.0, etaIT, etaTI);  "
-             "// total reflection\n", ""),)),
+             "// total reflection\n", ""),),
+        explanation=("Past the critical angle no ray gets through; without the total "
+                     "reflection case cos(theta_t) is NaN."),
+        section="How light divides at a boundary"),
     Variant(GL, "the index not inverted from inside (eta on both sides)", False, (
         Edit("shaders/dielectric.glsl", "float etaIT = fromOutside ? eta : 1.0 / eta;",
-             "float etaIT = eta;"),)),
+             "float etaIT = eta;"),),
+        explanation=("Leaving the glass the ratio is 1 / eta; with eta on both sides, rays "
+                     "leaving glass bend as if entering it."),
+        section="Inside and outside"),
     Variant(GL, "the back of glass black, as an opaque surface's", False, (
         Edit("shaders/path.comp", "bool glass = material.kind == MATERIAL_DIELECTRIC;",
-             "bool glass = false;"),)),
+             "bool glass = false;"),),
+        explanation=("A ray inside glass reaches the back of its surface; treating that back "
+                     "as black ends every path through it."),
+        section="Inside and outside"),
+    # Held out: the two ratios' names confused, eta_i / eta_t computed as if it were
+    # eta_t / eta_i: both ratios come out inverted, as when the indices are swapped.
+    Variant(GL, "the two ratios' roles confused (eta_t / eta_i taken for eta_i / eta_t)",
+            False, (
+        Edit("shaders/dielectric.glsl",
+             "    float etaIT = fromOutside ? eta : 1.0 / eta;\n"
+             "    float etaTI = 1.0 / etaIT;\n",
+             "    float etaTI = fromOutside ? eta : 1.0 / eta;\n"
+             "    float etaIT = 1.0 / etaTI;\n"),),
+        explanation=("From outside eta_t / eta_i is eta, from inside 1 / eta; swapped, glass "
+                     "bends and reflects inside out."),
+        section="How light divides at a boundary",
+        held_out="Fresnel with the indices swapped (eta_i / eta_t for eta_t / eta_i)"),
 ]
 
 CATALOGUE["16"] = CHAPTER_16
@@ -540,19 +665,43 @@ CHAPTER_17 = [
              "    return table[encoded];\n"),)),
 
     Variant(LT, "a square aperture", False, (
-        Edit("shaders/camera.glsl", CONCENTRIC, "    return 2.0 * u - 1.0;\n"),)),
+        Edit("shaders/camera.glsl", CONCENTRIC, "    return 2.0 * u - 1.0;\n"),),
+        explanation=("A lens is a disk; using the square's points as they are blurs "
+                     "out-of-focus points into squares."),
+        section="The aperture's points: the concentric map"),
     Variant(LT, "polar aperture samples with the radius uniform (crowded centre)", False, (
         Edit("shaders/camera.glsl", CONCENTRIC,
              "    float angle = 4.0 * QUARTER_TURN * u.y;\n"
-             "    return u.x * vec2(cos(angle), sin(angle));\n"),)),
+             "    return u.x * vec2(cos(angle), sin(angle));\n"),),
+        explanation=("A radius of u instead of sqrt(u) crowds the lens points at its centre, "
+                     "so out-of-focus blur is peaked."),
+        section="The aperture's points: the concentric map"),
     Variant(LT, "nearest texel instead of bilinear", False, (
         Edit("shaders/textures.glsl", BLEND,
-             "    return texelAt(image, int(floor(xy.x + 0.5)), int(floor(xy.y + 0.5)));\n"),)),
+             "    return texelAt(image, int(floor(xy.x + 0.5)), int(floor(xy.y + 0.5)));\n"),),
+        explanation=("Textures blend the four nearest texels; taking the nearest texel alone "
+                     "makes magnified images blocky."),
+        section="Bilinear filtering, and repeat"),
     Variant(LT, "the image upside down (v not turned to rows)", False, (
         Edit("shaders/textures.glsl", "(1.0 - uv.y) * float(image.height)",
-             "uv.y * float(image.height)"),)),
+             "uv.y * float(image.height)"),),
+        explanation=("Image rows run from the top but v from the bottom; without 1 - v the "
+                     "texture is upside down."),
+        section="Bilinear filtering, and repeat"),
     Variant(LT, "sRGB values not decoded", False, (
-        Edit("chapters/textures.cpp", SRGB, "    return c;\n"),)),
+        Edit("chapters/textures.cpp", SRGB, "    return c;\n"),),
+        explanation=("Image files hold sRGB-encoded values; used without decoding them, "
+                     "textures come out too bright."),
+        section="From sRGB to linear, once, on the host"),
+    # Held out: v kept as (1 - v) but the rows read bottom up in texelAt; bilinear
+    # blending of the reversed rows at (1 - v) H - 1/2 is that of the rows at v H - 1/2.
+    Variant(LT, "the image's rows read bottom up (upside down, written another way)", False, (
+        Edit("shaders/textures.glsl", "    y = (y + height) % height;\n",
+             "    y = height - 1 - (y + height) % height;\n"),),
+        explanation=("Image rows run from the top but v from the bottom; without 1 - v the "
+                     "texture is upside down."),
+        section="Bilinear filtering, and repeat",
+        held_out="the image upside down (v not turned to rows)"),
 ]
 
 CATALOGUE["17"] = CHAPTER_17
@@ -620,20 +769,43 @@ CHAPTER_18 = [
 
     Variant(EN, "the pdf per unit of u and v taken per steradian (no sin theta)", False, (
         Edit("shaders/environment.glsl", "    return perUv / (2.0 * PI * PI * sinTheta);\n",
-             "    return perUv / (2.0 * PI * PI);\n"),)),
+             "    return perUv / (2.0 * PI * PI);\n"),),
+        explanation=("A map pixel covers 2 pi^2 sin(theta) du dv steradians; without "
+                     "sin(theta) sampled sky light is too bright."),
+        section="The pdf: from the map to the sphere"),
     Variant(EN, "the step above the one u falls in (off by one)", False, (
         Edit("shaders/environment.glsl", "    return vec2(float(low), clamp(along, 0.0, 1.0));\n",
-             "    return vec2(float(low + 1u), clamp(along, 0.0, 1.0));\n"),)),
+             "    return vec2(float(low + 1u), clamp(along, 0.0, 1.0));\n"),),
+        explanation=("Returning the step above the one u falls in puts samples a pixel off, "
+                     "chosen with their neighbour's chance."),
+        section="Two tables"),
     Variant(EN, "the map read upside down (v from the bottom)", False, (
         Edit("shaders/environment.glsl", LOOKUP_V,
-             "u < 0.0 ? u + 1.0 : u, 1.0 - acos(clamp(d.y, -1.0, 1.0)) / PI"),)),
+             "u < 0.0 ? u + 1.0 : u, 1.0 - acos(clamp(d.y, -1.0, 1.0)) / PI"),),
+        explanation=("v = arccos(d_y) / pi runs from the zenith down; measured from the "
+                     "bottom, the sky is upside down."),
+        section="A latitude-longitude map"),
     Variant(EN, "equal steps instead of the table's (the starter's findStep)", False, (
         Edit("shaders/environment.glsl", FIND_STEP,
-             "    return vec2(floor(u * float(count)), fract(u * float(count)));\n"),)),
+             "    return vec2(floor(u * float(count)), fract(u * float(count)));\n"),),
+        explanation=("A pixel must be picked by the tables' CDF steps; equal steps pick it "
+                     "with another chance than the pdf says."),
+        section="Two tables"),
     Variant(EN, "the pdf without the row's chance (the conditional alone)", False, (
         Edit("shaders/environment.glsl",
              "    float perUv = rowChance * columnChance * float(",
-             "    float perUv = columnChance * float("),)),
+             "    float perUv = columnChance * float("),),
+        explanation=("A pixel's chance is its row's chance times its column's in that row; the "
+                     "column's alone gives a wrong pdf."),
+        section="The pdf: from the map to the sphere"),
+    # Held out: the direction's y turned round instead of v: acos(-y) / pi = 1 - acos(y) / pi.
+    Variant(EN, "the map read upside down (the direction's y negated)", False, (
+        Edit("shaders/environment.glsl", LOOKUP_V,
+             "u < 0.0 ? u + 1.0 : u, acos(clamp(-d.y, -1.0, 1.0)) / PI"),),
+        explanation=("v = arccos(d_y) / pi runs from the zenith down; measured from the "
+                     "bottom, the sky is upside down."),
+        section="A latitude-longitude map",
+        held_out="the map read upside down (v from the bottom)"),
 ]
 
 CATALOGUE["18"] = CHAPTER_18
@@ -663,17 +835,34 @@ CHAPTER_A1 = [
 
     Variant(F, "generator restarted from the seed every pass", False, (
         Edit("shaders/path.frag", CARRIED_STATE,
-             "    RandomState random = seedHashed(seed, pixel.y * imageSize.x + pixel.x);\n"),)),
+             "    RandomState random = seedHashed(seed, pixel.y * imageSize.x + pixel.x);\n"),),
+        explanation=("The generator's state carries over between passes; reseeded each pass, "
+                     "every pass repeats the same sample."),
+        section="Accumulating in two framebuffers (ping-pong)"),
     Variant(F, "previous mean left out: the newest sample only", False, (
-        Edit("shaders/path.frag", PREVIOUS_MEAN, "    vec3 mean = vec3(0.0);\n"),)),
+        Edit("shaders/path.frag", PREVIOUS_MEAN, "    vec3 mean = vec3(0.0);\n"),),
+        explanation=("Each pass updates the mean the last pass wrote; from zero it leaves "
+                     "sample / n, a picture fading to black."),
+        section="Accumulating in two framebuffers (ping-pong)"),
     Variant(F, "generator state not written back: every pass starts as seeded", False, (
         Edit("shaders/path.frag", "    newRandomState = random.words;\n",
-             "    newRandomState = texelFetch(previousRandom, samePixel, 0);\n"),)),
+             "    newRandomState = texelFetch(previousRandom, samePixel, 0);\n"),),
+        explanation=("Writing back the old random state instead of the advanced one repeats "
+                     "the same sample every pass."),
+        section="Accumulating in two framebuffers (ping-pong)",
+        # Both start every pass from the seeded state: the same sample, pass after pass.
+        same_effect="generator restarted from the seed every pass"),
     Variant(F, "an exponential average: old mean and new sample half each", False, (
-        Edit("shaders/path.frag", MEAN_UPDATE, "    mean = 0.5 * (mean + radiance);\n"),)),
+        Edit("shaders/path.frag", MEAN_UPDATE, "    mean = 0.5 * (mean + radiance);\n"),),
+        explanation=("A running mean gives the new sample weight 1 / (n + 1); halving each "
+                     "time keeps the last few samples' noise."),
+        section="Accumulating in two framebuffers (ping-pong)"),
     Variant(F, "previous mean read from the pixel to the right", False, (
         Edit("shaders/path.frag", PREVIOUS_MEAN,
-             PREVIOUS_MEAN.replace("samePixel, 0", "samePixel + ivec2(1, 0), 0")),)),
+             PREVIOUS_MEAN.replace("samePixel, 0", "samePixel + ivec2(1, 0), 0")),),
+        explanation=("Each pixel must read its own previous mean; reading its right "
+                     "neighbour's smears the picture sideways."),
+        section="Accumulating in two framebuffers (ping-pong)"),
 ]
 
 CATALOGUE["A1"] = CHAPTER_A1
@@ -701,16 +890,32 @@ CHAPTER_A2 = [
 
     Variant(G, "quad's two edges swapped (its front turned away)", False, (
         Edit("shaders/scene.glsl", QUAD_READ,
-             QUAD_READ.replace("origin, edge1, edge2", "origin, edge2, edge1")),)),
+             QUAD_READ.replace("origin, edge1, edge2", "origin, edge2, edge1")),),
+        explanation=("A quad's front is the side edge1 x edge2 points to; with the edges "
+                     "swapped, walls show their black backs."),
+        section="Shapes in a buffer texture"),
     Variant(G, "quad's indices read from its first texel (the origin's)", False, (
         Edit("shaders/scene.glsl", "    vec4 indices = texel(first + 3u);\n",
-             "    vec4 indices = texel(first);\n"),)),
+             "    vec4 indices = texel(first);\n"),),
+        explanation=("A quad's material and emitter are in its fourth texel; read from the "
+                     "first, they are its origin's coordinates."),
+        section="Shapes in a buffer texture",
+        # All three lose every quad, the lamps with the walls: a black picture.
+        same_effect="quad's two edges swapped (its front turned away)"),
     Variant(G, "quads three texels apart instead of four", False, (
         Edit("shaders/scene.glsl", "    uint first = firstQuadTexel + i * uint(QUAD_TEXELS);\n",
-             "    uint first = firstQuadTexel + i * uint(QUAD_TEXELS - 1);\n"),)),
+             "    uint first = firstQuadTexel + i * uint(QUAD_TEXELS - 1);\n"),),
+        explanation=("Each quad takes four texels; stepping by three reads every quad after "
+                     "the first from the wrong texels."),
+        section="Shapes in a buffer texture",
+        # All three lose every quad, the lamps with the walls: a black picture.
+        same_effect="quad's two edges swapped (its front turned away)"),
     Variant(G, "triangle's corner and normal texels swapped", False, (
         Edit("shaders/scene.glsl", TRIANGLE_READ,
-             "    vec4 corners = texel(first + 1u), normals = texel(first);\n"),)),
+             "    vec4 corners = texel(first + 1u), normals = texel(first);\n"),),
+        explanation=("A triangle's first texel holds its corners' indices, its second its "
+                     "normals'; swapped, meshes fall apart."),
+        section="Shapes in a buffer texture"),
 ]
 
 CATALOGUE["A2"] = CHAPTER_A2
@@ -750,19 +955,31 @@ CHAPTER_22 = [
     Variant(R, "the finished path's light carried into the next", False, (
         Edit("shaders/path.comp", NEXT_PATH,
              "        vec3 carried = path.radiance;\n" + NEXT_PATH +
-             "        path.radiance = carried;\n"),)),
+             "        path.radiance = carried;\n"),),
+        explanation=("A new sample must start with no light; carrying the finished path's "
+                     "radiance over counts it again."),
+        section="Path regeneration"),
     Variant(R, "the finished path's throughput carried into the next", False, (
         Edit("shaders/path.comp", NEXT_PATH,
              "        vec3 kept = path.throughput;\n" + NEXT_PATH +
-             "        path.throughput = kept;\n"),)),
+             "        path.throughput = kept;\n"),),
+        explanation=("The next path must start with a throughput of 1; carrying the finished "
+                     "path's over scales its light wrongly."),
+        section="Path regeneration"),
     Variant(R, "the bounce count not started again", False, (
         Edit("shaders/path.comp", NEXT_PATH,
              "        int bounces = path.bounce;\n" + NEXT_PATH +
-             "        path.bounce = bounces;\n"),)),
+             "        path.bounce = bounces;\n"),),
+        explanation=("Each new path counts its bounces from 0; going on with the old count "
+                     "cuts later samples short of --depth."),
+        section="Path regeneration"),
     Variant(R, "the next path goes on from the last one's ray, not from the camera", False, (
         Edit("shaders/path.comp", NEXT_PATH,
              "        path.radiance = vec3(0.0);\n"
-             "        path.bounce = 0;\n"),)),
+             "        path.bounce = 0;\n"),),
+        explanation=("A new sample needs a fresh camera ray and throughput; going on from the "
+                     "ended path's ray adds wrong light."),
+        section="Path regeneration"),
 ]
 
 CATALOGUE["22"] = CHAPTER_22
@@ -808,18 +1025,34 @@ CHAPTER_23 = [
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = queues[queue].size;\n"
              "    queues[queue].size = place + 1u;\n"
-             "    queueItems[queue * poolSize + place] = slot;\n"),)),
+             "    queueItems[queue * poolSize + place] = slot;\n"),),
+        explanation=("Many invocations push at once; a plain read and write of the size gives "
+                     "two one place, and paths are lost."),
+        section="The wavefront"),
     Variant(W, "the items written without their queue's offset", False, (
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = atomicAdd(queues[queue].size, 1u);\n"
-             "    queueItems[place] = slot;\n"),)),
+             "    queueItems[place] = slot;\n"),),
+        explanation=("Each queue owns poolSize places from queue * poolSize; without that "
+                     "offset the queues overwrite each other."),
+        section="The wavefront",
+        # A race between the queues: which paths survive changes from run to run, and the
+        # picture's noise by twenty times between runs of the same code; at the students'
+        # seeds it was 1.9 times as far from its signature as a match may be.
+        recognisable=False),
     Variant(W, "the place written into the queue instead of the slot", False, (
         Edit("shaders/wavefront.glsl", PUSH,
              "    uint place = atomicAdd(queues[queue].size, 1u);\n"
-             "    queueItems[queue * poolSize + place] = place;\n"),)),
+             "    queueItems[queue * poolSize + place] = place;\n"),),
+        explanation=("A queue holds path slot numbers; storing the place instead makes the "
+                     "next kernel work on the wrong paths."),
+        section="The wavefront"),
     Variant(W, "work groups rounded down", False, (
         Edit("shaders/wavefront_dispatch.comp", GROUPS,
-             "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE;\n"),)),
+             "    queues[queue].groupsX = size / QUEUE_GROUP_SIZE;\n"),),
+        explanation=("Work groups must cover every queued item; rounding their number down "
+                     "leaves the last few paths undone."),
+        section="Dispatching what the GPU counted"),
 ]
 
 CATALOGUE["23"] = CHAPTER_23
@@ -843,18 +1076,42 @@ CHAPTER_24 = [
              "        float s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u.x);\n"),)),
 
     Variant(M, "the distance's density of one channel (green) for all three", False, (
-        Edit("shaders/media.glsl", MEAN_DENSITY, "    float pdf = density.g;\n"),)),
+        Edit("shaders/media.glsl", MEAN_DENSITY, "    float pdf = density.g;\n"),),
+        explanation=("The distance's density is the mean over the three channels; green's "
+                     "alone weights red and blue wrongly."),
+        section="Where the ray scatters: free-flight sampling"),
     Variant(M, "always red's distance, divided by the mean density", False, (
-        Edit("shaders/media.glsl", CHANNEL, "    int channel = 0;\n"),)),
+        Edit("shaders/media.glsl", CHANNEL, "    int channel = 0;\n"),),
+        explanation=("Each channel must be drawn a third of the time; always drawing red's "
+                     "distance skews the medium's colour."),
+        section="Where the ray scatters: free-flight sampling"),
     Variant(M, "scattering weighted by sigma_t instead of sigma_s", False, (
         Edit("shaders/media.glsl",
              "    vec3 kept = flight.scattered ? medium.sigmaS * transmittance : transmittance;\n",
-             "    vec3 kept = flight.scattered ? extinction * transmittance : transmittance;\n"),)),
+             "    vec3 kept = flight.scattered ? extinction * transmittance : transmittance;\n"),),
+        explanation=("At a scattering the weight takes sigma_s, the share that scatters; with "
+                     "sigma_t, absorbed light comes back."),
+        section="Where the ray scatters: free-flight sampling"),
     Variant(M, "Henyey-Greenstein sampled with g of the other sign", False, (
         Edit("shaders/media.glsl", HG_COSINE,
-             "        cosTheta = -(1.0 + g * g - s * s) / (2.0 * g);\n"),)),
+             "        cosTheta = -(1.0 + g * g - s * s) / (2.0 * g);\n"),),
+        explanation=("Sampled with g of the wrong sign, a medium that scatters light onwards "
+                     "sends it back, and the reverse."),
+        section="The phase function"),
     Variant(M, "every scattering uniform over the sphere, whatever g", False, (
-        Edit("shaders/media.glsl", HG_COSINE, "        cosTheta = 1.0 - 2.0 * u.x;\n"),)),
+        Edit("shaders/media.glsl", HG_COSINE, "        cosTheta = 1.0 - 2.0 * u.x;\n"),),
+        explanation=("Scattered directions must follow Henyey-Greenstein; drawn uniformly, "
+                     "every medium scatters as if g were 0."),
+        section="The phase function"),
+    # Held out: the sampled cosine kept, the frame built about the reversed direction:
+    # the cosine with the direction of travel is negated, as for g of the other sign.
+    Variant(M, "Henyey-Greenstein sampled about the reversed direction", False, (
+        Edit("shaders/media.glsl", "    return basisAround(travelling) *\n",
+             "    return basisAround(-travelling) *\n"),),
+        explanation=("Sampled with g of the wrong sign, a medium that scatters light onwards "
+                     "sends it back, and the reverse."),
+        section="The phase function",
+        held_out="Henyey-Greenstein sampled with g of the other sign"),
 ]
 
 CATALOGUE["24"] = CHAPTER_24
@@ -883,23 +1140,44 @@ CHAPTER_25 = [
 
     Variant(M, "the nearest cell's density, no interpolation", False, (
         Edit("shaders/grid.glsl", LAST_MIX,
-             "    return gridValue(medium, clamp(ivec3(floor(cells + 0.5)), ivec3(0), last));\n"),)),
+             "    return gridValue(medium, clamp(ivec3(floor(cells + 0.5)), ivec3(0), last));\n"),),
+        explanation=("Densities blend trilinearly between cell centres; the nearest cell's "
+                     "value alone makes the medium blocky."),
+        section="A grid of densities"),
     Variant(M, "a majorant half the densest sigma_t", False, (
         Edit("shaders/grid.glsl", STEP,
              "        t -= log(1.0 - random01(random)) / (0.5 * medium.majorant);\n"
              "        if (t >= far) return flight;\n"),
         Edit("shaders/grid.glsl", REAL_COLLISION,
-             "        if (random01(random) * 0.5 * medium.majorant < sigmaT) {\n"))),
+             "        if (random01(random) * 0.5 * medium.majorant < sigmaT) {\n")),
+        explanation=("The majorant must bound sigma_t everywhere; at half the densest value, "
+                     "dense parts scatter too little."),
+        section="The majorant, and what a walk costs"),
     Variant(M, "the density without the scale", False, (
         Edit("shaders/grid.glsl", SIGMA_T,
              "        float sigmaT = densityAt(medium, ray.origin + t * ray.direction);\n",
-             count=2),)),
+             count=2),),
+        explanation=("sigma_t is the medium's scale times the grid's density; without the "
+                     "scale the medium is too thin or thick."),
+        section="A grid of densities"),
     Variant(M, "ratio tracking keeping exp(-sigma_t / majorant) a step", False, (
         Edit("shaders/grid.glsl", "        kept *= 1.0 - sigmaT / medium.majorant;\n",
-             "        kept *= exp(-sigmaT / medium.majorant);\n"),)),
+             "        kept *= exp(-sigmaT / medium.majorant);\n"),),
+        explanation=("Ratio tracking keeps 1 - sigma_t / majorant a step; exp(-sigma_t / "
+                     "majorant) keeps too much: pale shadows."),
+        section="Ratio tracking"),
     Variant(M, "shadow rays by delta tracking: all or nothing (noisier, unbiased)", True, (
         Edit("shaders/grid.glsl", "        kept *= 1.0 - sigmaT / medium.majorant;\n",
              "        if (random01(random) * medium.majorant < sigmaT) return 0.0;\n"),)),
+    # Held out: the scale left out on the host (the GPU's scale 1; the majorant, made
+    # on the host from the scene's scale, unchanged): sigma_t is the bare density again.
+    Variant(M, "the density without the scale (the host passes a scale of 1)", False, (
+        Edit("chapters/media.cpp", "    packed.scale = medium.scale;\n",
+             "    packed.scale = 1.0f;\n"),),
+        explanation=("sigma_t is the medium's scale times the grid's density; without the "
+                     "scale the medium is too thin or thick."),
+        section="A grid of densities",
+        held_out="the density without the scale"),
 ]
 
 CATALOGUE["25"] = CHAPTER_25
