@@ -20,6 +20,8 @@ double gpuStepSeconds() {
     return seconds > 0.0 ? seconds : kDefaultGpuStepSeconds;
 }
 
+double gpuCompileSeconds() { return 10.0 * gpuStepSeconds(); }
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -35,11 +37,23 @@ using Clock = std::chrono::steady_clock;
     std::_Exit(static_cast<int>(ExitCode::GlProblem));
 }
 
-// The watchdog's state: the time of the last progress, read by its thread.
+[[noreturn]] void failCompileStalled(const std::string& program, double limit) {
+    std::fprintf(stderr,
+                 "error: the GL spent %.0f s compiling %s without finishing (a compile "
+                 "may take ten times COURSE_GPU_TIMEOUT_SECONDS). If this machine is "
+                 "only that slow or that busy, COURSE_GPU_TIMEOUT_SECONDS=%.0f allows "
+                 "more.\n",
+                 limit, program.c_str(), gpuStepSeconds() * 10.0);
+    std::_Exit(static_cast<int>(ExitCode::GlProblem));
+}
+
+// The watchdog's state: the time of the last progress, read by its thread, and the
+// program being compiled, if one is (empty when not).
 std::mutex progressMutex;
 std::condition_variable progressChanged;
 Clock::time_point lastProgress = Clock::now();
 bool watching = false;
+std::string compiling;
 
 void noteProgress() {
     std::lock_guard<std::mutex> lock(progressMutex);
@@ -90,16 +104,43 @@ GpuWatchdog::GpuWatchdog() {
         std::lock_guard<std::mutex> lock(progressMutex);
         watching = true;
     }
-    const double limit = gpuStepSeconds();
-    watcher = std::thread([limit] {
-        auto allowed = std::chrono::duration_cast<Clock::duration>(
-            std::chrono::duration<double>(limit));
+    watcher = std::thread([] {
+        auto duration = [](double seconds) {
+            return std::chrono::duration_cast<Clock::duration>(
+                std::chrono::duration<double>(seconds));
+        };
+        const double stepLimit = gpuStepSeconds(), compileLimit = gpuCompileSeconds();
         std::unique_lock<std::mutex> lock(progressMutex);
         while (watching) {
-            if (Clock::now() >= lastProgress + allowed) failGpuStalled(limit);
-            progressChanged.wait_until(lock, lastProgress + allowed);
+            const bool compile = !compiling.empty();
+            const auto deadline = lastProgress + duration(compile ? compileLimit : stepLimit);
+            if (Clock::now() >= deadline) {
+                if (compile) failCompileStalled(compiling, compileLimit);
+                failGpuStalled(stepLimit);
+            }
+            progressChanged.wait_until(lock, deadline);
         }
     });
+}
+
+// Starting and ending a compile are both progress: the step after it gets a whole
+// step's time.
+ShaderCompileAllowance::ShaderCompileAllowance(const std::string& program) {
+    {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        lastProgress = Clock::now();
+        compiling = program.empty() ? "a shader" : program;
+    }
+    progressChanged.notify_all();
+}
+
+ShaderCompileAllowance::~ShaderCompileAllowance() {
+    {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        lastProgress = Clock::now();
+        compiling.clear();
+    }
+    progressChanged.notify_all();
 }
 
 GpuWatchdog::~GpuWatchdog() {

@@ -340,9 +340,32 @@ void ShaderProgram::dispatchCovering(int invocationsX, int invocationsY,
     const int groups[3] = {groupsFor(invocationsX, group.x), groupsFor(invocationsY, group.y),
                            groupsFor(invocationsZ, group.z)};
     checkWorkGroupCount(groups, name());
+    compileBeforeFirstDispatch();
     use();
     glDispatchCompute(groups[0], groups[1], groups[2]);
     gpuStepQueued();  // the watchdog's sign of progress
+}
+
+// A dispatch of zero groups does no work, but a GL that compiles at first use compiles
+// for it. The count is read from a buffer, so that the GL cannot skip the call before
+// reaching the driver, as it may for glDispatchCompute(0, 0, 0).
+void ShaderProgram::compileBeforeFirstDispatch() const {
+    if (compiledFor_ == id_) return;
+    compiledFor_ = id_;
+    GLint indirectBefore = 0;
+    glGetIntegerv(GL_DISPATCH_INDIRECT_BUFFER_BINDING, &indirectBefore);
+    const GLuint noGroups[3] = {0, 0, 0};
+    GLuint command = 0;
+    glGenBuffers(1, &command);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, command);
+    glBufferData(GL_DISPATCH_INDIRECT_BUFFER, sizeof noGroups, noGroups, GL_STATIC_DRAW);
+    {
+        ShaderCompileAllowance compiling(name());
+        use();
+        glDispatchComputeIndirect(0);  // llvmpipe compiles inside the call
+    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, GLuint(indirectBefore));
+    glDeleteBuffers(1, &command);
 }
 
 }  // namespace course

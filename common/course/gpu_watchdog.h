@@ -7,6 +7,7 @@
 // when no step has finished for COURSE_GPU_TIMEOUT_SECONDS (default 30). A render of a
 // thousand quick steps runs as long as it needs; one endless step ends in seconds.
 #pragma once
+#include <string>
 
 namespace course {
 
@@ -22,6 +23,19 @@ void gpuStepQueued();
 // Blocks until the GPU has finished all queued work; ends the program with exit code 4
 // and a message when no step finishes within gpuStepSeconds().
 void waitForGpu();
+
+// Some GLs (Mesa's llvmpipe) compile a compute shader on the CPU at its first dispatch,
+// which for a large shader on a busy machine can take longer than a step may. While one
+// lives (ShaderProgram::compileBeforeFirstDispatch), the watchdog allows a compile
+// gpuCompileSeconds(), ten times a step, and names the program if even that runs out.
+double gpuCompileSeconds();
+class ShaderCompileAllowance {
+public:
+    explicit ShaderCompileAllowance(const std::string& program);
+    ~ShaderCompileAllowance();
+    ShaderCompileAllowance(const ShaderCompileAllowance&) = delete;
+    ShaderCompileAllowance& operator=(const ShaderCompileAllowance&) = delete;
+};
 
 // While one lives, a stalled GPU ends the program (a thread of its own watches: the
 // main thread may be stuck inside a GL call).

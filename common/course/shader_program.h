@@ -63,6 +63,11 @@ public:
     glm::ivec3 workGroupSize() const;
     // glDispatchCompute with enough groups to cover `invocations`, rounded up.
     void dispatchCovering(int invocationsX, int invocationsY = 1, int invocationsZ = 1) const;
+    // Has the GL compile the compute shader now, if it waits for the first dispatch to
+    // (Mesa's llvmpipe does, on the CPU: seconds for a large shader, more on a busy
+    // machine), so that the compile is not taken for a step that never ends. Once per
+    // link; dispatchCovering calls it, and so should code that dispatches by itself.
+    void compileBeforeFirstDispatch() const;
 
     // Hot reload. Reads every file the program was built from (includes too) and
     // compares its text with what the last build read: the contents, not the time of
@@ -86,6 +91,7 @@ private:
     GeneratedFiles generated_;         // the same text at every reload
     std::vector<ShaderFile> watched_;  // every file read, includes too, as last read
     std::string sources_;              // the stages' preprocessed text, for name checks
+    mutable GLuint compiledFor_ = 0;   // the id_ compileBeforeFirstDispatch last did
 };
 
 // Compiles and links program text that lives in C++ (the window display); errors name

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from course_tools import chapters
+from course_tools import chapters, virtual_display
 from python_prototypes.pfm import read_pfm  # noqa: F401  (the checks import it from here)
 from python_prototypes.srgb import encode_8bit as srgb_encode_8bit  # noqa: F401
 
@@ -300,50 +300,14 @@ def window_env(tmp_path_factory):
     folder = tmp_path_factory.mktemp("window")
     runtime = folder / "runtime"
     runtime.mkdir(mode=0o700)
-    log = folder / "xvfb.log"
-    ready_read, ready_write = os.pipe()
-    with open(log, "wb") as log_file:
-        server = subprocess.Popen(
-            ["Xvfb", "-displayfd", str(ready_write), "-screen", "0", "800x600x24",
-             "-nolisten", "tcp"],
-            pass_fds=[ready_write], stdout=log_file, stderr=log_file,
-            stdin=subprocess.DEVNULL)
-    os.close(ready_write)
     try:
-        display = _read_display_number(ready_read, server, log)
-        env = {k: v for k, v in os.environ.items() if k != "WAYLAND_DISPLAY"}
-        env.update(DISPLAY=f":{display}", XDG_RUNTIME_DIR=str(runtime),
-                   XDG_SESSION_TYPE="x11")
-        yield env
-    finally:
-        os.close(ready_read)
-        server.terminate()
-        try:
-            server.wait(timeout=WINDOW_SAFETY_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait()
-
-
-def _read_display_number(ready: int, server: subprocess.Popen, log: Path) -> str:
-    """Xvfb writes its display number and a newline to -displayfd once it accepts
-    clients; an end of file first means it failed to start."""
-    import select
-    text = b""
-    deadline = time.monotonic() + WINDOW_SAFETY_TIMEOUT
-    while not text.endswith(b"\n"):
-        remaining = deadline - time.monotonic()
-        if remaining <= 0 or not select.select([ready], [], [], remaining)[0]:
-            server.kill()
-            pytest.fail(f"Xvfb did not start within {WINDOW_SAFETY_TIMEOUT} s: "
-                        + log.read_text(errors="replace"))
-        chunk = os.read(ready, 64)
-        if not chunk:
-            server.wait()
-            pytest.fail(f"Xvfb failed to start (exit {server.returncode}): "
-                        + log.read_text(errors="replace"))
-        text += chunk
-    return text.decode().strip()
+        with virtual_display.xvfb(folder / "xvfb.log", WINDOW_SAFETY_TIMEOUT) as display:
+            env = {k: v for k, v in os.environ.items() if k != "WAYLAND_DISPLAY"}
+            env.update(DISPLAY=display, XDG_RUNTIME_DIR=str(runtime),
+                       XDG_SESSION_TYPE="x11")
+            yield env
+    except virtual_display.VirtualDisplayError as error:
+        pytest.fail(str(error))
 
 
 def window_command(prefix: str, out: Path, *args) -> list[str]:

@@ -13,8 +13,8 @@ import shlex
 import subprocess
 import sys
 import tempfile
-from contextlib import contextmanager
 
+from course_tools import virtual_display
 from course_tools.paths import ROOT
 from course_tools.setup import machine_setup, platforms
 from course_tools.windows import cross_build
@@ -38,30 +38,6 @@ def ensure_packages():
                                          "the Windows check")
 
 
-@contextmanager
-def virtual_display():
-    """An Xvfb of our own, on a display number it picks and reports (-displayfd)."""
-    ready_read, ready_write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(ready_write), "-screen", "0",
-                               "800x600x24", "-nolisten", "tcp"], pass_fds=[ready_write],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                              stdin=subprocess.DEVNULL)
-    os.close(ready_write)
-    try:
-        text = b""
-        while not text.endswith(b"\n"):
-            chunk = os.read(ready_read, 64)
-            if not chunk:
-                raise cross_build.CrossBuildError(
-                    f"Xvfb did not start (exit {server.wait()})")
-            text += chunk
-        yield f":{text.decode().strip()}"
-    finally:
-        os.close(ready_read)
-        server.terminate()
-        server.wait()
-
-
 def wine_environment(display: str) -> dict[str, str]:
     """Wine in a prefix of the course's own (build/windows/wine), quiet (WINEDEBUG=-all:
     its notes would mix with the programs' messages, which the checks read), on our
@@ -81,6 +57,31 @@ def prepare_wine(environment: dict[str, str]):
     subprocess.run(["wineserver", "--wait"], env=env, check=False)
 
 
+def check_under_wine(bin_folder, chapter: str | None) -> subprocess.CompletedProcess:
+    """The chapters' Windows-marked checks, run on the .exe files under Wine on an X
+    server of our own (Xvfb: Wine's opengl32 needs a display)."""
+    cross_build.WINDOWS.mkdir(parents=True, exist_ok=True)
+    with virtual_display.xvfb(cross_build.WINDOWS / "xvfb.log", 60) as display:
+        environment = wine_environment(display)
+        prepare_wine(environment)
+        runner = "env " + " ".join(f"{k}={shlex.quote(v)}" for k, v in environment.items())
+        selection = f"{MARKER} and chapter{chapter}" if chapter else MARKER
+        command = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python" / "chapters"),
+                   "-q", "-p", "no:cacheprovider", "-rfE", "-m", selection,
+                   "-n", "0"]
+        cross_build.say(f"running the chapters' image checks on the Windows build, under "
+                        f"Wine ({selection})")
+        result = subprocess.run(command, cwd=tempfile.gettempdir(), env=dict(
+            os.environ, COURSE_BIN_DIR=str(bin_folder), COURSE_BACKENDS="glfw",
+            COURSE_TEST_ARTIFACTS=str(cross_build.WINDOWS / "test-artifacts"),
+            # Wine adds its start to each run; the watchdog's limit is for hangs, not that.
+            COURSE_GPU_TIMEOUT_SECONDS="120",
+            COURSE_PROGRAM_RUNNER=f"{runner} wine"))
+        subprocess.run(["wineserver", "--kill"], env=dict(os.environ, **environment),
+                       check=False)
+    return result
+
+
 def cmd_windows_check(args):
     try:
         ensure_packages()
@@ -96,22 +97,9 @@ def cmd_windows_check(args):
         print(f"course: the Windows build failed ({error.returncode}): "
               f"{shlex.join(map(str, error.cmd))}", file=sys.stderr)
         sys.exit(1)
-    with virtual_display() as display:
-        environment = wine_environment(display)
-        prepare_wine(environment)
-        runner = "env " + " ".join(f"{k}={shlex.quote(v)}" for k, v in environment.items())
-        selection = f"{MARKER} and chapter{args.chapter}" if args.chapter else MARKER
-        command = [sys.executable, "-m", "pytest", str(ROOT / "tests" / "python" / "chapters"),
-                   "-q", "-p", "no:cacheprovider", "-rfE", "-m", selection,
-                   "-n", "0"]
-        cross_build.say(f"running the chapters' image checks on the Windows build, under "
-                        f"Wine ({selection})")
-        result = subprocess.run(command, cwd=tempfile.gettempdir(), env=dict(
-            os.environ, COURSE_BIN_DIR=str(bin_folder), COURSE_BACKENDS="glfw",
-            COURSE_TEST_ARTIFACTS=str(cross_build.WINDOWS / "test-artifacts"),
-            # Wine adds its start to each run; the watchdog's limit is for hangs, not that.
-            COURSE_GPU_TIMEOUT_SECONDS="120",
-            COURSE_PROGRAM_RUNNER=f"{runner} wine"))
-        subprocess.run(["wineserver", "--kill"], env=dict(os.environ, **environment),
-                       check=False)
+    try:
+        result = check_under_wine(bin_folder, args.chapter)
+    except virtual_display.VirtualDisplayError as error:
+        print(f"course: the Windows check needs a virtual X server: {error}", file=sys.stderr)
+        sys.exit(1)
     sys.exit(result.returncode)
