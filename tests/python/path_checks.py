@@ -12,6 +12,7 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import io
 import json
@@ -170,12 +171,40 @@ def scene_fingerprint(value) -> str:
     return repr(value)
 
 
+def translating_sources(module: str = "python_prototypes.mitsuba_reference") -> list[Path]:
+    """The files of `module` and of every python_prototypes module it imports, at any
+    depth (read from their import statements, those inside functions included), sorted:
+    what turns a scene into Mitsuba's."""
+    found: set[Path] = set()
+    waiting = [module]
+    while waiting:
+        parts = waiting.pop().split(".")
+        base = ROOT.joinpath(*parts)
+        path = base.with_suffix(".py") if base.with_suffix(".py").is_file() \
+            else base / "__init__.py"
+        if path in found or not path.is_file():
+            continue
+        found.add(path)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                waiting += [alias.name for alias in node.names
+                            if alias.name.startswith("python_prototypes")]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and \
+                    (node.module or "").startswith("python_prototypes"):
+                waiting.append(node.module)
+                # `from package import module` names modules as well as functions
+                waiting += [f"{node.module}.{alias.name}" for alias in node.names]
+    return sorted(found)
+
+
 def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,
                  variant: str = "scalar_rgb") -> np.ndarray:
     """Mitsuba 3's render (mitsuba_reference.render_mitsuba: linear RGB, row 0 at the
     top), kept in the per-user reference cache (tools/course_tools/reference_cache.py) under what
     makes it: the scene with its files' bytes, the size, samples, depth, seed, variant,
-    Mitsuba's and Dr.Jit's versions, the cores, and the prototypes that translate it."""
+    Mitsuba's and Dr.Jit's versions, the cores, and the prototypes that translate it
+    (translating_sources: only those, so that a new prototype or figure script beside
+    them keeps every kept render)."""
     pytest.importorskip("mitsuba")
     import drjit
     import mitsuba
@@ -183,7 +212,7 @@ def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: i
     name = reference_cache.key(
         "mitsuba render", mitsuba.__version__, drjit.__version__, variant, width, height,
         spp, bounces, seed, os.cpu_count(), scene_fingerprint(scene),
-        reference_cache.tree_digest(ROOT / "python_prototypes")) + ".npy"
+        *translating_sources()) + ".npy"
     kept = reference_cache.fetch(name)
     if kept is not None:
         return np.load(io.BytesIO(kept), allow_pickle=False)

@@ -337,3 +337,16 @@ def test_a_scene_naming_its_meshes_by_absolute_path_is_keyed_by_their_contents(t
         keys.append(path_checks.kept_render_key("16", ["--scene", str(scene)],
                                                 scene.parent / "out.pfm"))
     assert keys[0] == keys[1] != keys[2]
+
+
+def test_a_mitsuba_render_is_keyed_by_the_prototypes_that_translate_its_scene():
+    """kept_mitsuba's key holds the prototypes mitsuba_reference imports, at any depth
+    (a lazy import inside a function too), and not the others: a new prototype or
+    figure script keeps every kept Mitsuba render."""
+    import path_checks
+    names = {p.relative_to(ROOT).as_posix() for p in path_checks.translating_sources()}
+    assert {"python_prototypes/mitsuba_reference.py", "python_prototypes/scene_io.py",
+            "python_prototypes/thin_lens.py",  # imported inside a function
+            "python_prototypes/pfm.py"} <= names
+    assert "python_prototypes/instances.py" not in names
+    assert "python_prototypes/bvh_2d.py" not in names
