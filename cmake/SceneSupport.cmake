@@ -9,7 +9,7 @@
 # does not read the first numbered chapter that does, for the message a program gives
 # a scene it cannot render. Chapters whose manifest is not at hand (a starter carries
 # only its own and those its checks use) are not named.
-set(COURSE_SCENE_FEATURES metals glass lens textures environment media)
+set(COURSE_SCENE_FEATURES metals glass lens textures environment media instances motion)
 
 # The words of a manifest's scene_reads line (none: no line, or no manifest).
 function(course_scene_reads manifest out)

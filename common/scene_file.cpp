@@ -27,8 +27,9 @@ namespace fs = std::filesystem;
 // A scene file is a few kilobytes: meshes live in OBJ files. This only stops a wrong
 // file (a video, a disk image) from being read into memory whole.
 constexpr std::uintmax_t kMostBytes = std::uintmax_t(16) << 20;
-// No statement has more fields than a camera with a lens and a medium (23 words).
-constexpr size_t kMostWords = 24;
+// No statement has more fields than a camera with a lens, a medium and a shutter (26
+// words); an instance's steps may repeat, up to this many words in all.
+constexpr size_t kMostWords = 64;
 constexpr const char* kNameRule =
     "use letters, digits, '_' and '-', starting with a letter or '_'";
 
@@ -64,8 +65,22 @@ struct MaterialUse {
     std::string name;
     size_t line;
     ShapeKind kind;
-    size_t shape;  // index into the scene's vector of that kind of shape
+    size_t shape;    // index into the scene's (or the object's) vector of that kind of shape
+    int32_t object;  // the object the shape belongs to (SceneFile::objects), or -1: the world
 };
+
+// An instance's object as written; resolved at the end, as materials are.
+struct ObjectUse {
+    std::string name;
+    size_t line;
+    size_t instance;  // index into SceneFile::instances
+};
+
+// The three kinds of words a number may start with, and digits: a step's numbers end
+// where a word that is no number begins (the next step's name).
+bool looksLikeNumber(std::string_view word) {
+    return isDigit(word[0]) || word[0] == '-' || word[0] == '+' || word[0] == '.';
+}
 
 // A medium named by a sphere's or a mesh's `interior`, or by the camera; resolved at
 // the end, as materials are.
@@ -99,6 +114,9 @@ public:
             return;  // a blank line, or only a comment
         const std::string_view keyword = words.front();
         words.erase(words.begin());
+        if (openObject_ >= 0 && keyword != "sphere" && keyword != "quad" &&
+            keyword != "triangle" && keyword != "mesh" && keyword != "end")
+            refuseInObject(keyword, words);
         if (keyword == "camera")
             readCamera(words);
         else if (keyword == "texture")
@@ -117,18 +135,33 @@ public:
             readEnvironment(words);
         else if (keyword == "medium")
             readMedium(words);
+        else if (keyword == "object")
+            readObject(words);
+        else if (keyword == "end")
+            readEnd(words);
+        else if (keyword == "instance")
+            readInstance(words);
         else
             fail("unknown keyword " + inQuotes(keyword) +
                  " (expected camera, texture, material, medium, sphere, quad, triangle, "
-                 "mesh or environment)");
+                 "mesh, environment, object, end or instance)");
     }
 
     SceneFile finish() {
+        if (openObject_ >= 0) {
+            const SceneObject& open = scene_.objects[size_t(openObject_)];
+            failAt(open.line, "object " + inQuotes(open.name) + " has no 'end'");
+        }
         for (const MaterialUse& use : uses_) {  // in file order: the first error is named
             const auto found = materialIndex_.find(use.name);
             if (found == materialIndex_.end())
                 failAt(use.line, "material " + inQuotes(use.name) + " is not defined");
             materialOf(use) = found->second;
+            if (use.object >= 0 && scene_.materials[found->second].emits())
+                failAt(use.line, "object " + inQuotes(scene_.objects[size_t(use.object)].name) +
+                                     ": material " + inQuotes(use.name) +
+                                     " emits, and an object's shapes may not (a light is "
+                                     "placed as it is, not through instances)");
             const bool hasUv = use.kind == ShapeKind::Quad || use.kind == ShapeKind::Mesh;
             if (scene_.materials[found->second].texture >= 0 && !hasUv)
                 failAt(use.line, "material " + inQuotes(use.name) +
@@ -156,8 +189,32 @@ public:
             (sphere ? scene_.spheres[use.shape].interior : scene_.meshes[use.shape].interior) =
                 medium;
         }
+        for (const ObjectUse& use : objectUses_) {
+            const auto found = objectIndex_.find(use.name);
+            if (found == objectIndex_.end())
+                failAt(use.line, "object " + inQuotes(use.name) + " is not defined");
+            scene_.instances[use.instance].object = found->second;
+        }
         // What this program does not read: exit code 3 at the first line that uses it.
         const SceneSupport& reads = support_;
+        if (!reads.instances.read && (!scene_.objects.empty() || !scene_.instances.empty())) {
+            const size_t first = scene_.objects.empty() ? scene_.instances.front().line
+                                 : scene_.instances.empty()
+                                     ? scene_.objects.front().line
+                                     : std::min(scene_.objects.front().line,
+                                                scene_.instances.front().line);
+            failAt(first, "this program draws no objects or instances (object ... end, "
+                          "instance)" + comesIn("instances come", reads.instances));
+        }
+        if (!reads.motion.read) {
+            for (const SceneInstance& instance : scene_.instances)
+                if (instance.motion != glm::vec3(0.0f))
+                    failAt(instance.line, "this program renders nothing that moves "
+                                          "(moving X Y Z)" + comesIn("motion comes", reads.motion));
+            if (shutterWritten_)
+                failAt(cameraLine_, "the camera has a shutter: this program renders nothing "
+                                    "that moves" + comesIn("motion comes", reads.motion));
+        }
         if (!reads.media.read) {
             size_t first = scene_.media.empty() ? 0 : scene_.media.front().line;
             auto earlier = [&first](size_t line) { first = first ? std::min(first, line) : line; };
@@ -238,7 +295,25 @@ private:
 
     // camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
     //        [medium MEDIUM]
-    void readCamera(const Words& words) {
+    void readCamera(Words words) {
+        // shutter OPEN CLOSE, anywhere after the sensor: taken out first, so that the rest
+        // reads as it always has.
+        float shutterOpen = 0.0f, shutterClose = 0.0f;
+        for (size_t i = 16; i < words.size(); ++i) {
+            if (words[i] != "shutter") continue;
+            if (shutterWritten_ || i + 2 >= words.size() || !looksLikeNumber(words[i + 1]) ||
+                !looksLikeNumber(words[i + 2]))
+                fail("the camera's shutter needs two numbers, OPEN CLOSE (seconds), once");
+            shutterOpen = readNumber(words[i + 1]);
+            shutterClose = readNumber(words[i + 2]);
+            if (!(shutterOpen >= 0.0f) || !(shutterClose >= shutterOpen))
+                fail("the camera's shutter " + inQuotes(words[i + 1]) + " " +
+                     inQuotes(words[i + 2]) + " must open at 0 or later and close no "
+                     "earlier than it opens");
+            shutterWritten_ = true;
+            words.erase(words.begin() + std::ptrdiff_t(i), words.begin() + std::ptrdiff_t(i) + 3);
+            break;
+        }
         if (words.size() < 16 || words.size() > 22 || words.size() % 2 != 0)
             expectFieldCount("camera", words, 16,
                              "eye X Y Z look X Y Z up X Y Z focal F sensor S, then "
@@ -285,9 +360,11 @@ private:
             } else {
                 fail("unexpected " + inQuotes(words[i]) +
                      " in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
-                     "medium MEDIUM, each once)");
+                     "medium MEDIUM, shutter OPEN CLOSE, each once)");
             }
         }
+        camera.shutterOpen = shutterOpen;
+        camera.shutterClose = shutterClose;
         scene_.camera = camera;
         cameraLine_ = lineNumber_;
     }
@@ -472,17 +549,33 @@ private:
 
     // Called before the shape is appended to its vector: `shape` is its index there.
     void useMaterial(std::string_view name, ShapeKind kind, size_t shape) {
-        uses_.push_back({std::string(name), lineNumber_, kind, shape});
+        uses_.push_back({std::string(name), lineNumber_, kind, shape, openObject_});
     }
 
+    // Where shapes go: the world's lists, or an object's between its begin and end.
+    struct ShapeLists {
+        std::vector<SceneSphere>& spheres;
+        std::vector<SceneQuad>& quads;
+        std::vector<SceneTriangle>& triangles;
+        std::vector<SceneMesh>& meshes;
+    };
+    ShapeLists shapesOf(int32_t object) {
+        if (object < 0)
+            return {scene_.spheres, scene_.quads, scene_.triangles, scene_.meshes};
+        SceneObject& o = scene_.objects[size_t(object)];
+        return {o.spheres, o.quads, o.triangles, o.meshes};
+    }
+    ShapeLists shapes() { return shapesOf(openObject_); }
+
     uint32_t& materialOf(const MaterialUse& use) {
+        ShapeLists lists = shapesOf(use.object);
         switch (use.kind) {
-        case ShapeKind::Sphere: return scene_.spheres[use.shape].material;
-        case ShapeKind::Quad: return scene_.quads[use.shape].material;
-        case ShapeKind::Triangle: return scene_.triangles[use.shape].material;
+        case ShapeKind::Sphere: return lists.spheres[use.shape].material;
+        case ShapeKind::Quad: return lists.quads[use.shape].material;
+        case ShapeKind::Triangle: return lists.triangles[use.shape].material;
         case ShapeKind::Mesh: break;
         }
-        return scene_.meshes[use.shape].material;
+        return lists.meshes[use.shape].material;
     }
 
     // The fields of a sphere, quad or triangle, then optionally `name NAME`.
@@ -519,7 +612,7 @@ private:
                 fail("'sphere' takes after its 5 fields only interior MEDIUM and name NAME, "
                      "each once; got " + inQuotes(words[i]));
             if (interior)
-                useMedium(words[i + 1], MediumPlace::Sphere, scene_.spheres.size());
+                useMedium(words[i + 1], MediumPlace::Sphere, shapes().spheres.size());
             else
                 sphere.name = readShapeName(words[i + 1]);
             (interior ? seenInterior : seenName) = true;
@@ -528,8 +621,8 @@ private:
         sphere.radius = readNumber(words[3]);
         if (!(sphere.radius > 0.0f))
             fail("the sphere's radius must be positive, got " + inQuotes(words[3]));
-        useMaterial(words[4], ShapeKind::Sphere, scene_.spheres.size());
-        scene_.spheres.push_back(sphere);
+        useMaterial(words[4], ShapeKind::Sphere, shapes().spheres.size());
+        shapes().spheres.push_back(sphere);
     }
 
     // Zero when the two edges are parallel or either is zero; in double precision, so
@@ -552,8 +645,8 @@ private:
         quad.edge2 = readVector(words, 6);
         if (isDegenerate(quad.edge1, quad.edge2))
             fail("the quad has zero area: an edge is zero or the two edges are parallel");
-        useMaterial(words[9], ShapeKind::Quad, scene_.quads.size());
-        scene_.quads.push_back(quad);
+        useMaterial(words[9], ShapeKind::Quad, shapes().quads.size());
+        shapes().quads.push_back(quad);
     }
 
     // triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
@@ -566,8 +659,8 @@ private:
         triangle.p2 = readVector(words, 6);
         if (isDegenerate(triangle.p1 - triangle.p0, triangle.p2 - triangle.p0))
             fail("the triangle has zero area: its corners are on one line");
-        useMaterial(words[9], ShapeKind::Triangle, scene_.triangles.size());
-        scene_.triangles.push_back(triangle);
+        useMaterial(words[9], ShapeKind::Triangle, shapes().triangles.size());
+        shapes().triangles.push_back(triangle);
     }
 
     // mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
@@ -604,19 +697,144 @@ private:
             } else if (which == 3) {
                 mesh.name = readShapeName(words[i + 1]);
             } else if (which == 4) {
-                useMedium(words[i + 1], MediumPlace::Mesh, scene_.meshes.size());
+                useMedium(words[i + 1], MediumPlace::Mesh, shapes().meshes.size());
             } else {
                 mesh.translation = readVector(words, i + 1);
             }
             i += 1 + count;
         }
-        useMaterial(words[1], ShapeKind::Mesh, scene_.meshes.size());
-        scene_.meshes.push_back(mesh);
+        useMaterial(words[1], ShapeKind::Mesh, shapes().meshes.size());
+        shapes().meshes.push_back(mesh);
     }
 
     void useMedium(std::string_view name, MediumPlace place, size_t shape) {
+        if (openObject_ >= 0)
+            fail("object " + inQuotes(scene_.objects[size_t(openObject_)].name) +
+                 ": an object's shapes hold no medium (interior)");
         mediumUses_.push_back({std::string(name), lineNumber_, place, shape});
     }
+
+    // --8<-- [start:objects]
+    // object NAME begin
+    void readObject(const Words& words) {
+        if (words.size() != 2 || words[1] != "begin")
+            fail("'object' needs a name and the word begin: object NAME begin");
+        const std::string_view name = words[0];
+        if (!isName(name))
+            fail("object name " + inQuotes(name) + ": " + kNameRule);
+        const std::string key(name);
+        if (const auto earlier = objectIndex_.find(key); earlier != objectIndex_.end())
+            fail("object " + inQuotes(name) + " is already defined on line " +
+                 std::to_string(scene_.objects[earlier->second].line));
+        SceneObject object;
+        object.name = key;
+        object.line = lineNumber_;
+        objectIndex_[key] = uint32_t(scene_.objects.size());
+        openObject_ = int32_t(scene_.objects.size());
+        scene_.objects.push_back(object);
+    }
+
+    // end
+    void readEnd(const Words& words) {
+        if (openObject_ < 0)
+            fail("'end' without an 'object NAME begin' before it");
+        if (!words.empty())
+            fail("'end' takes nothing after it, got " + inQuotes(words[0]));
+        const SceneObject& object = scene_.objects[size_t(openObject_)];
+        if (object.spheres.empty() && object.quads.empty() && object.triangles.empty() &&
+            object.meshes.empty())
+            failAt(object.line, "object " + inQuotes(object.name) +
+                                    " is empty: put shapes between its begin and end");
+        openObject_ = -1;
+    }
+
+    // Between an object's begin and end only shapes (and its end) may stand.
+    [[noreturn]] void refuseInObject(std::string_view keyword, const Words& words) const {
+        const SceneObject& object = scene_.objects[size_t(openObject_)];
+        if (keyword == "instance" && !words.empty() && words[0] == object.name)
+            fail("object " + inQuotes(object.name) + " is used inside itself");
+        if (keyword == "instance" || keyword == "object")
+            fail(inQuotes(keyword) + " inside object " + inQuotes(object.name) +
+                 " (line " + std::to_string(object.line) + "): objects hold shapes, not "
+                 "objects or instances; 'end' it first");
+        fail(inQuotes(keyword) + " inside object " + inQuotes(object.name) + " (line " +
+             std::to_string(object.line) + "): only sphere, quad, triangle and mesh "
+             "statements stand between its begin and end");
+    }
+
+    // instance OBJECT [scale S | scale X Y Z] [rotate X Y Z DEGREES] [rotate_y DEGREES]
+    //          [translate X Y Z] [moving X Y Z] [name NAME]
+    void readInstance(const Words& words) {
+        if (words.empty())
+            fail("'instance' needs the name of an object, then its placement");
+        if (!isName(words[0]))
+            fail("object name " + inQuotes(words[0]) + ": " + kNameRule);
+        SceneInstance instance;
+        instance.line = lineNumber_;
+        bool seenMoving = false, seenName = false;
+        for (size_t i = 1; i < words.size();) {
+            const std::string_view step = words[i];
+            // How many numbers follow the step's word.
+            size_t numbers = 0;
+            while (i + 1 + numbers < words.size() && looksLikeNumber(words[i + 1 + numbers]))
+                ++numbers;
+            auto need = [&](size_t count, const char* form) {
+                if (numbers != count)
+                    fail(inQuotes(step) + " needs " + form + ", got " +
+                         std::to_string(numbers) + (numbers == 1 ? " number" : " numbers"));
+            };
+            PlacementStep placed;
+            if (step == "scale") {
+                if (numbers != 1) need(3, "1 number (S) or 3 (X Y Z)");
+                placed.kind = PlacementStepKind::Scale;
+                const glm::vec3 factors =
+                    numbers == 1 ? glm::vec3(readNumber(words[i + 1])) : readVector(words, i + 1);
+                if (factors.x == 0.0f || factors.y == 0.0f || factors.z == 0.0f)
+                    fail("scale by 0 squashes the object flat");
+                placed.values = glm::vec4(factors, 0.0f);
+            } else if (step == "rotate") {
+                need(4, "4 numbers (axis X Y Z, DEGREES)");
+                placed.kind = PlacementStepKind::Rotate;
+                placed.values = glm::vec4(readVector(words, i + 1), readNumber(words[i + 4]));
+                if (glm::vec3(placed.values) == glm::vec3(0.0f))
+                    fail("rotate needs an axis that is not 0 0 0");
+            } else if (step == "rotate_y") {
+                need(1, "1 number (DEGREES)");
+                placed.kind = PlacementStepKind::RotateY;
+                placed.values.w = readNumber(words[i + 1]);
+            } else if (step == "translate") {
+                need(3, "3 numbers (X Y Z)");
+                placed.values = glm::vec4(readVector(words, i + 1), 0.0f);
+            } else if (step == "moving" && !seenMoving) {
+                need(3, "3 numbers (X Y Z)");
+                instance.motion = readVector(words, i + 1);
+                seenMoving = true;
+                i += 4;
+                continue;
+            } else if (step == "name" && !seenName && i + 1 < words.size()) {
+                instance.name = readShapeName(words[i + 1]);
+                seenName = true;
+                i += 2;
+                continue;
+            } else {
+                fail("unexpected " + inQuotes(step) + " in 'instance' (expected scale, rotate, "
+                     "rotate_y, translate, and moving X Y Z and name NAME once each)");
+            }
+            instance.steps.push_back(placed);
+            i += 1 + numbers;
+        }
+        const glm::dmat3 linear(glm::mat3(instance.worldFromObject()));
+        const double determinant = glm::determinant(linear);
+        if (!std::isfinite(determinant) || !(std::abs(determinant) > 1e-24)) {
+            char shown[32];
+            std::snprintf(shown, sizeof shown, "%.3g", determinant);
+            fail("the placement squashes the object flat or blows it up (the determinant of "
+                 "its matrix is " + std::string(shown) + ")");
+        }
+        objectUses_.push_back({std::string(words[0]), lineNumber_, scene_.instances.size()});
+        scene_.instances.push_back(instance);
+    }
+    // --8<-- [end:objects]
 
     // medium NAME homogeneous sigma_a R G B sigma_s R G B [g G]
     //        NAME grid PATH albedo R G B [scale S] [g G]
@@ -750,6 +968,10 @@ private:
     std::vector<MaterialUse> uses_;
     std::unordered_map<std::string, uint32_t> mediumIndex_;
     std::vector<MediumUse> mediumUses_;
+    std::unordered_map<std::string, uint32_t> objectIndex_;
+    std::vector<ObjectUse> objectUses_;
+    int32_t openObject_ = -1;  // the object between its begin and end, or -1
+    bool shutterWritten_ = false;
     SceneFile scene_;
 };
 
@@ -811,6 +1033,29 @@ glm::mat4 SceneMesh::worldFromMesh() const {
 }
 // --8<-- [end:transform]
 
+// --8<-- [start:placement]
+glm::mat4 SceneInstance::worldFromObject() const {
+    // Each step multiplies from the left: the first written applies to the object first.
+    const glm::mat4 identity(1.0f);
+    glm::mat4 world(1.0f);
+    for (const PlacementStep& step : steps) {
+        const glm::vec3 v(step.values);
+        switch (step.kind) {
+        case PlacementStepKind::Scale: world = glm::scale(identity, v) * world; break;
+        case PlacementStepKind::Rotate:
+            world = glm::rotate(identity, glm::radians(step.values.w), glm::normalize(v)) * world;
+            break;
+        case PlacementStepKind::RotateY:
+            world = glm::rotate(identity, glm::radians(step.values.w), glm::vec3(0, 1, 0)) *
+                    world;
+            break;
+        case PlacementStepKind::Translate: world = glm::translate(identity, v) * world; break;
+        }
+    }
+    return world;
+}
+// --8<-- [end:placement]
+
 namespace {
 
 // Nine significant digits read back as the same float.
@@ -832,6 +1077,8 @@ std::string formatSceneFile(const SceneFile& scene) {
     if (camera.lensRadius > 0.0f)
         text += " lens " + number(camera.lensRadius) + " focus " + number(camera.focusDistance);
     if (camera.medium >= 0) text += " medium " + scene.media.at(size_t(camera.medium)).name;
+    if (camera.shutterOpen > 0.0f || camera.shutterClose > 0.0f)
+        text += " shutter " + number(camera.shutterOpen) + " " + number(camera.shutterClose);
     text += "\n";
     for (const SceneTexture& texture : scene.textures) {
         if (texture.kind == TextureKind::Image)
@@ -882,20 +1129,48 @@ std::string formatSceneFile(const SceneFile& scene) {
     auto shapeName = [](const std::string& name) {
         return name.empty() ? std::string("\n") : " name " + name + "\n";
     };
-    for (const SceneSphere& sphere : scene.spheres)
-        text += "sphere " + numbers(sphere.center) + " " + number(sphere.radius) + " " +
-                name(sphere.material) + interior(sphere.interior) + shapeName(sphere.name);
-    for (const SceneQuad& quad : scene.quads)
-        text += "quad " + numbers(quad.origin) + " " + numbers(quad.edge1) + " " +
-                numbers(quad.edge2) + " " + name(quad.material) + shapeName(quad.name);
-    for (const SceneTriangle& triangle : scene.triangles)
-        text += "triangle " + numbers(triangle.p0) + " " + numbers(triangle.p1) + " " +
-                numbers(triangle.p2) + " " + name(triangle.material) + shapeName(triangle.name);
-    for (const SceneMesh& mesh : scene.meshes)
-        text += "mesh " + mesh.writtenPath + " " + name(mesh.material) + " scale " +
-                number(mesh.scale) + " rotate_y " + number(mesh.rotationYDegrees) +
-                " translate " + numbers(mesh.translation) + interior(mesh.interior) +
-                shapeName(mesh.name);
+    auto writeShapes = [&](const std::vector<SceneSphere>& spheres,
+                           const std::vector<SceneQuad>& quads,
+                           const std::vector<SceneTriangle>& triangles,
+                           const std::vector<SceneMesh>& meshes) {
+        for (const SceneSphere& sphere : spheres)
+            text += "sphere " + numbers(sphere.center) + " " + number(sphere.radius) + " " +
+                    name(sphere.material) + interior(sphere.interior) + shapeName(sphere.name);
+        for (const SceneQuad& quad : quads)
+            text += "quad " + numbers(quad.origin) + " " + numbers(quad.edge1) + " " +
+                    numbers(quad.edge2) + " " + name(quad.material) + shapeName(quad.name);
+        for (const SceneTriangle& triangle : triangles)
+            text += "triangle " + numbers(triangle.p0) + " " + numbers(triangle.p1) + " " +
+                    numbers(triangle.p2) + " " + name(triangle.material) +
+                    shapeName(triangle.name);
+        for (const SceneMesh& mesh : meshes)
+            text += "mesh " + mesh.writtenPath + " " + name(mesh.material) + " scale " +
+                    number(mesh.scale) + " rotate_y " + number(mesh.rotationYDegrees) +
+                    " translate " + numbers(mesh.translation) + interior(mesh.interior) +
+                    shapeName(mesh.name);
+    };
+    writeShapes(scene.spheres, scene.quads, scene.triangles, scene.meshes);
+    for (const SceneObject& object : scene.objects) {
+        text += "object " + object.name + " begin\n";
+        writeShapes(object.spheres, object.quads, object.triangles, object.meshes);
+        text += "end\n";
+    }
+    for (const SceneInstance& instance : scene.instances) {
+        text += "instance " + scene.objects.at(instance.object).name;
+        for (const PlacementStep& step : instance.steps) {
+            const glm::vec3 v(step.values);
+            switch (step.kind) {
+            case PlacementStepKind::Scale: text += " scale " + numbers(v); break;
+            case PlacementStepKind::Rotate:
+                text += " rotate " + numbers(v) + " " + number(step.values.w);
+                break;
+            case PlacementStepKind::RotateY: text += " rotate_y " + number(step.values.w); break;
+            case PlacementStepKind::Translate: text += " translate " + numbers(v); break;
+            }
+        }
+        if (instance.motion != glm::vec3(0.0f)) text += " moving " + numbers(instance.motion);
+        text += shapeName(instance.name);
+    }
     if (scene.hasEnvironment())
         text += "environment " + scene.environment.writtenPath + " scale " +
                 number(scene.environment.scale) + " rotate_y " +

@@ -7,7 +7,7 @@
 // -0.25, 1e-3); lengths in metres, angles in degrees; every shape names a material:
 //
 //   camera eye X Y Z look X Y Z up X Y Z focal F sensor S [lens RADIUS focus DISTANCE]
-//          [medium MEDIUM]
+//          [medium MEDIUM] [shutter OPEN CLOSE]
 //       a pinhole camera (python_prototypes/camera_rays.py): the eye, a viewing direction
 //       (not a point), roughly-up, the focal length and the sensor's *width*; exactly
 //       one per file. Its horizontal field of view is 2 atan(S / 2F). With `lens`, a
@@ -89,6 +89,22 @@
 //       with one needs no emitting shape. PATH is found as a mesh's is.
 //   A shape's optional name (same rule as a material's) labels a region of the image
 //   for comparisons: several shapes may share one name (the six faces of a box).
+//   object NAME begin ... end
+//       the sphere, quad, triangle and mesh statements between the two lines form an
+//       object, drawn only where instances place it (nothing of it by itself). Its
+//       shapes may not emit, nor hold a medium; objects do not nest, and hold no
+//       instances (two levels: objects, and instances of them).
+//   instance OBJECT [scale S | scale X Y Z] [rotate X Y Z DEGREES] [rotate_y DEGREES]
+//            [translate X Y Z] [moving X Y Z] [name NAME]
+//       OBJECT placed in the world by the steps written, applied in the order written
+//       (Mitsuba's to_world chain, each step multiplying from the left): scale by S, or
+//       by X Y Z along the axes (none 0; a negative one mirrors), turn by DEGREES about
+//       the axis X Y Z (any length but 0; counter-clockwise seen from its tip), turn
+//       about y, move. Steps may repeat. `moving`, once, after them: the instance moves
+//       by X Y Z in the world while the camera's shutter is open, from where the steps
+//       put it (motion blur). OBJECT may be defined before or after the instance.
+//   The camera's optional `shutter OPEN CLOSE` (seconds, 0 <= OPEN <= CLOSE) is the
+//   interval over which a picture is exposed: Mitsuba's shutter_open, shutter_close.
 //
 // The front of a quad is the side cross(E, F) points to; of a triangle, the side
 // cross(B - A, C - A) points to (corners counter-clockwise seen from the front); of a
@@ -117,6 +133,8 @@ struct SceneCamera {
     float lensRadius = 0.0f;     // metres; 0: a pinhole
     float focusDistance = 1.0f;  // metres along the view direction, where a lens is sharp
     int32_t medium = -1;         // the medium around the camera (SceneFile::media), or -1
+    float shutterOpen = 0.0f;    // seconds: the exposure's interval (instances that move
+    float shutterClose = 0.0f;   // blur over it); both 0 when not written
 };
 
 enum class MediumKind { Homogeneous, Grid };
@@ -207,6 +225,41 @@ struct SceneEnvironment {
     size_t line = 0;  // the `environment` line; 0: the scene has no environment
 };
 
+// --8<-- [start:instances]
+// One step of an instance's placement, as written (so that a scene writes back as read).
+enum class PlacementStepKind { Scale, Rotate, RotateY, Translate };
+struct PlacementStep {
+    PlacementStepKind kind = PlacementStepKind::Translate;
+    // scale: the factors along x, y, z; rotate: the axis and the degrees (w);
+    // rotate_y: the degrees (w); translate: the offset.
+    glm::vec4 values{0.0f};
+};
+
+// `object NAME begin` ... `end`: shapes drawn only where instances place them, in the
+// object's own coordinates.
+struct SceneObject {
+    std::string name;
+    std::vector<SceneSphere> spheres;
+    std::vector<SceneQuad> quads;
+    std::vector<SceneTriangle> triangles;
+    std::vector<SceneMesh> meshes;
+    size_t line = 0;  // the `object` line
+};
+
+// `instance OBJECT ...`: an object placed in the world.
+struct SceneInstance {
+    uint32_t object = 0;               // index into SceneFile::objects
+    std::vector<PlacementStep> steps;  // in the order written: the first applies first
+    glm::vec3 motion{0.0f};            // moving X Y Z: how far it goes while the shutter is open
+    std::string name;                  // optional
+    size_t line = 0;
+
+    // The steps as one matrix, object points to world points, where the instance is when
+    // the shutter opens: the last step's matrix on the left.
+    glm::mat4 worldFromObject() const;
+};
+// --8<-- [end:instances]
+
 struct SceneFile {
     std::string path;  // absolute
     SceneCamera camera;
@@ -218,6 +271,8 @@ struct SceneFile {
     std::vector<SceneQuad> quads;
     std::vector<SceneTriangle> triangles;
     std::vector<SceneMesh> meshes;
+    std::vector<SceneObject> objects;      // what instances place; not drawn by themselves
+    std::vector<SceneInstance> instances;
 
     // Shapes whose material emits: spheres, quads, triangles and meshes.
     size_t emitterCount() const;
@@ -241,6 +296,8 @@ struct SceneSupport {
     SceneFeature textures;     // texture statements and textured materials
     SceneFeature environment;  // an environment light
     SceneFeature media;        // medium statements, boundary materials, interior, camera medium
+    SceneFeature instances;    // object ... end, instance statements
+    SceneFeature motion;       // instances that move (moving X Y Z), the camera's shutter
 };
 
 // Reads a scene file; meshFolders are the folders searched for a mesh's PATH after the

@@ -56,6 +56,16 @@ SceneSupport withMedia() {
     support.media.read = true;
     return support;
 }
+SceneSupport withInstances() {
+    SceneSupport support = everything();
+    support.instances.read = true;
+    return support;
+}
+SceneSupport withMotion() {
+    SceneSupport support = withInstances();
+    support.motion.read = true;
+    return support;
+}
 
 const fs::path kScenes = fs::path(COURSE_SOURCE_DIR) / "assets" / "scenes";
 
@@ -403,7 +413,7 @@ TEST_F(SceneFileTest, EmptyFile) { EXPECT_EQ(failure(""), at(0, "empty file")); 
 TEST_F(SceneFileTest, UnknownKeyword) {
     EXPECT_EQ(failure(kValid + "cylinder 0 0 0 1 lamp\n"),
               at(4, "unknown keyword 'cylinder' (expected camera, texture, material, medium, "
-                    "sphere, quad, triangle, mesh or environment)"));
+                    "sphere, quad, triangle, mesh, environment, object, end or instance)"));
 }
 
 TEST_F(SceneFileTest, WrongNumberOfFields) {
@@ -955,7 +965,7 @@ TEST_F(SceneFileTest, MediumMistakesAreExit3AtTheirLine) {
     EXPECT_EQ(failure("camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036 "
                       "medium fog medium fog\n", {}, withMedia()),
               at(1, "unexpected 'medium' in 'camera' (after the sensor: lens RADIUS focus "
-                    "DISTANCE, medium MEDIUM, each once)"));
+                    "DISTANCE, medium MEDIUM, shutter OPEN CLOSE, each once)"));
     // A program that renders no media says so at the first line that needs them.
     EXPECT_EQ(failure(kValid + "material e boundary\n" + fog + "\n", {}, everything()),
               at(4, "this program renders no participating media (medium statements, "
@@ -984,3 +994,160 @@ TEST_F(SceneFileTest, AVolumeGridReadsBackAsWritten) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Objects and instances
+// ---------------------------------------------------------------------------------------
+
+const std::string kObjects =
+    "material white albedo 0.8 0.8 0.8\n"
+    "object pot begin\n"
+    "  sphere 0 0.5 0 0.5 white name lid\n"
+    "  quad 0 0 0 1 0 0 0 0 1 white\n"
+    "  triangle 0 0 0 1 0 0 0 1 0 white\n"
+    "end\n"
+    "instance pot\n"
+    "instance pot scale 2 rotate_y 30 translate 1 0 -2 name big\n"
+    "instance pot scale -1 1 0.5 rotate 1 1 0 45 translate 0 1 0 moving 0.5 0 0\n";
+
+TEST_F(SceneFileTest, ObjectsAndInstancesAreReadAndWrittenBack) {
+    const std::string text =
+        "camera eye 0 1 4 look 0 0 -1 up 0 1 0 focal 0.035 sensor 0.036 shutter 0 0.5\n"
+        "material lamp albedo 0 0 0 emission 1 1 1\nsphere 0 3 0 0.5 lamp\n" + kObjects;
+    const std::string path = (folder_ / "objects.scene").string();
+    const SceneFile scene = parseSceneText(text, path, {}, withMotion());
+    ASSERT_EQ(scene.objects.size(), 1u);
+    EXPECT_EQ(scene.spheres.size(), 1u);  // the lamp: the object's shapes are its own
+    const course::SceneObject& pot = scene.objects[0];
+    EXPECT_EQ(pot.name, "pot");
+    EXPECT_EQ(pot.line, 5u);
+    EXPECT_EQ(pot.spheres.size(), 1u);
+    EXPECT_EQ(pot.spheres[0].name, "lid");
+    EXPECT_EQ(pot.quads.size(), 1u);
+    EXPECT_EQ(pot.triangles.size(), 1u);
+    EXPECT_EQ(pot.triangles[0].material, 1u);
+    ASSERT_EQ(scene.instances.size(), 3u);
+    EXPECT_TRUE(scene.instances[0].steps.empty());
+    EXPECT_EQ(scene.instances[1].name, "big");
+    EXPECT_EQ(scene.instances[1].steps.size(), 3u);
+    expectSameVector(scene.instances[2].motion, {0.5f, 0.0f, 0.0f});
+    EXPECT_EQ(scene.camera.shutterOpen, 0.0f);
+    EXPECT_EQ(scene.camera.shutterClose, 0.5f);
+    EXPECT_EQ(scene.emitterCount(), 1u);
+    const std::string formatted = formatSceneFile(scene);
+    const SceneFile again = parseSceneText(formatted, path, {}, withMotion());
+    EXPECT_EQ(formatSceneFile(again), formatted);
+    expectSameScene(scene, again);
+    ASSERT_EQ(again.instances.size(), 3u);
+    for (size_t i = 0; i < 3; ++i)
+        EXPECT_EQ(again.instances[i].worldFromObject(), scene.instances[i].worldFromObject());
+    EXPECT_EQ(again.camera.shutterClose, 0.5f);
+}
+
+TEST_F(SceneFileTest, StepsApplyInTheOrderWritten) {
+    auto place = [this](const std::string& steps) {
+        const SceneFile scene = parseSceneText(
+            kValid + "object o begin\nsphere 0 0 0 1 w\nend\nmaterial w albedo 1 1 1\n"
+                     "instance o " + steps + "\n",
+            (folder_ / "x.scene").string(), {}, withInstances());
+        return scene.instances.at(0).worldFromObject();
+    };
+    const glm::vec4 x(1, 0, 0, 1);
+    EXPECT_EQ(place("scale 2 translate 1 0 0") * x, glm::vec4(3, 0, 0, 1));
+    EXPECT_EQ(place("translate 1 0 0 scale 2") * x, glm::vec4(4, 0, 0, 1));
+    const glm::vec4 turned = place("rotate_y 90") * x;  // right-handed: x goes to -z
+    EXPECT_NEAR(turned.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(turned.z, -1.0f, 1e-6f);
+    const glm::mat4 axis = place("rotate 0 3 0 33"), y = place("rotate_y 33");
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(axis[c][r], y[c][r], 1e-6f);
+    EXPECT_EQ(place("scale -1 2 3") * x, glm::vec4(-1, 0, 0, 1));
+}
+
+TEST_F(SceneFileTest, ObjectMistakesAreExit3AtTheirLine) {
+    auto bad = [this](const std::string& lines, const SceneSupport& support = withMotion()) {
+        return failure(kValid + "material w albedo 1 1 1\n" + lines + "\n", {}, support);
+    };
+    const std::string ball = "object o begin\nsphere 0 0 0 1 w\nend\n";
+    EXPECT_EQ(bad("instance nothing"), at(5, "object 'nothing' is not defined"));
+    EXPECT_EQ(bad("object o begin\nend"),
+              at(5, "object 'o' is empty: put shapes between its begin and end"));
+    EXPECT_EQ(bad("object o begin\nsphere 0 0 0 1 w\ninstance o\nend"),
+              at(7, "object 'o' is used inside itself"));
+    EXPECT_EQ(bad(ball + "object p begin\ninstance o\nend"),
+              at(9, "'instance' inside object 'p' (line 8): objects hold shapes, not objects "
+                    "or instances; 'end' it first"));
+    EXPECT_EQ(bad("object o begin\nobject p begin"),
+              at(6, "'object' inside object 'o' (line 5): objects hold shapes, not objects "
+                    "or instances; 'end' it first"));
+    EXPECT_EQ(bad("object o begin\nmaterial x albedo 1 1 1"),
+              at(6, "'material' inside object 'o' (line 5): only sphere, quad, triangle and "
+                    "mesh statements stand between its begin and end"));
+    EXPECT_EQ(bad("end"), at(5, "'end' without an 'object NAME begin' before it"));
+    EXPECT_EQ(bad(ball + "end"), at(8, "'end' without an 'object NAME begin' before it"));
+    EXPECT_EQ(bad("object o begin\nsphere 0 0 0 1 w"), at(5, "object 'o' has no 'end'"));
+    EXPECT_EQ(bad("object o"), at(5, "'object' needs a name and the word begin: object NAME "
+                                     "begin"));
+    EXPECT_EQ(bad("object 9 begin"),
+              at(5, "object name '9': use letters, digits, '_' and '-', starting with a "
+                    "letter or '_'"));
+    EXPECT_EQ(bad(ball + ball), at(8, "object 'o' is already defined on line 5"));
+    EXPECT_EQ(bad("object o begin\nsphere 0 0 0 1 lamp\nend"),
+              at(6, "object 'o': material 'lamp' emits, and an object's shapes may not (a "
+                    "light is placed as it is, not through instances)"));
+    EXPECT_EQ(bad(ball + "instance o scale 0"), at(8, "scale by 0 squashes the object flat"));
+    EXPECT_EQ(bad(ball + "instance o scale 1 0 1"), at(8, "scale by 0 squashes the object flat"));
+    EXPECT_EQ(bad(ball + "instance o scale 1e-10 translate 1 1 1"),
+              at(8, "the placement squashes the object flat or blows it up (the determinant "
+                    "of its matrix is 1e-30)"));
+    EXPECT_EQ(bad(ball + "instance o scale 1 2"),
+              at(8, "'scale' needs 1 number (S) or 3 (X Y Z), got 2 numbers"));
+    EXPECT_EQ(bad(ball + "instance o rotate 0 0 0 30"),
+              at(8, "rotate needs an axis that is not 0 0 0"));
+    EXPECT_EQ(bad(ball + "instance o rotate 0 1 0"),
+              at(8, "'rotate' needs 4 numbers (axis X Y Z, DEGREES), got 3 numbers"));
+    EXPECT_EQ(bad(ball + "instance o translate 1 2"),
+              at(8, "'translate' needs 3 numbers (X Y Z), got 2 numbers"));
+    EXPECT_EQ(bad(ball + "instance o rotate_y"),
+              at(8, "'rotate_y' needs 1 number (DEGREES), got 0 numbers"));
+    EXPECT_EQ(bad(ball + "instance o spin 3"),
+              at(8, "unexpected 'spin' in 'instance' (expected scale, rotate, rotate_y, "
+                    "translate, and moving X Y Z and name NAME once each)"));
+    EXPECT_EQ(bad(ball + "instance o moving 1 0 0 moving 1 0 0"),
+              at(8, "unexpected 'moving' in 'instance' (expected scale, rotate, rotate_y, "
+                    "translate, and moving X Y Z and name NAME once each)"));
+    EXPECT_EQ(bad(ball + "instance o translate 1 x 3"),
+              at(8, "'translate' needs 3 numbers (X Y Z), got 1 number"));
+    EXPECT_EQ(bad("instance"), at(5, "'instance' needs the name of an object, then its "
+                                     "placement"));
+    EXPECT_EQ(bad("medium m homogeneous sigma_a 1 1 1 sigma_s 0 0 0\nmaterial e boundary\n"
+                  "object o begin\nsphere 0 0 0 1 e interior m\nend", [] {
+                      SceneSupport support = withMotion();
+                      support.media.read = true;
+                      return support;
+                  }()),
+              at(8, "object 'o': an object's shapes hold no medium (interior)"));
+    EXPECT_EQ(failure(kCamera.substr(0, kCamera.size() - 1) + " shutter 1 0.5\n" +
+                          kValid.substr(kCamera.size()), {}, withMotion()),
+              at(1, "the camera's shutter '1' '0.5' must open at 0 or later and close no "
+                    "earlier than it opens"));
+    EXPECT_EQ(failure(kCamera.substr(0, kCamera.size() - 1) + " shutter 1\n" +
+                          kValid.substr(kCamera.size()), {}, withMotion()),
+              at(1, "the camera's shutter needs two numbers, OPEN CLOSE (seconds), once"));
+    // Programs that draw no instances, or nothing that moves, say so at the first line.
+    EXPECT_EQ(bad(ball + "instance o", everything()),
+              at(5, "this program draws no objects or instances (object ... end, instance)"));
+    EXPECT_EQ(bad(ball + "instance o", [] {
+                  SceneSupport support = everything();
+                  support.instances.firstReadBy = "chapter 26";
+                  return support;
+              }()),
+              at(5, "this program draws no objects or instances (object ... end, instance); "
+                    "instances come in chapter 26"));
+    EXPECT_EQ(bad(ball + "instance o moving 1 0 0", withInstances()),
+              at(8, "this program renders nothing that moves (moving X Y Z)"));
+    EXPECT_EQ(failure(kCamera.substr(0, kCamera.size() - 1) + " shutter 0 1\n" +
+                          kValid.substr(kCamera.size()), {}, withInstances()),
+              at(1, "the camera has a shutter: this program renders nothing that moves"));
+}

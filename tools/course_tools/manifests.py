@@ -31,7 +31,8 @@ from pathlib import Path
 FOLDER = "manifests"
 # What a scene reader may accept besides diffuse shapes and a pinhole camera, as
 # cmake/SceneSupport.cmake and common/course/scene_file.h's SceneSupport name them.
-SCENE_FEATURES = ("metals", "glass", "lens", "textures", "environment", "media")
+SCENE_FEATURES = ("metals", "glass", "lens", "textures", "environment", "media", "instances",
+                  "motion")
 
 
 class ManifestError(Exception):
