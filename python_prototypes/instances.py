@@ -48,6 +48,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from python_prototypes import scene_io
+
 NODE_COST = 1.0      # the SAH's prices, as chapter 14's BvhOptions
 TRIANGLE_COST = 1.0
 BINS = 16
@@ -58,24 +60,6 @@ NOTHING = -(2 ** 31)  # no primitive found (spheres are -1, -2, ...)
 # ---------------------------------------------------------------------------------------
 # Placements
 # ---------------------------------------------------------------------------------------
-
-class PlacementError(ValueError):
-    """A placement that cannot be made: an unknown step, a missing number, a degenerate
-    map. The message names the step."""
-
-
-def rotation(axis, degrees) -> np.ndarray:
-    """The 3 x 3 matrix turning by `degrees` about `axis` (right-handed: counter-clockwise
-    seen from the axis's tip), Rodrigues' formula, as Mitsuba's rotate."""
-    axis = np.asarray(axis, dtype=np.float64)
-    length = np.linalg.norm(axis)
-    if not length > 0.0:
-        raise PlacementError("rotate needs an axis that is not zero")
-    x, y, z = axis / length
-    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
-    cross = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return c * np.eye(3) + s * cross + (1.0 - c) * np.outer((x, y, z), (x, y, z))
-
 
 @dataclass
 class Placement:
@@ -116,44 +100,14 @@ class Placement:
         return bool(np.linalg.det(self.linear) < 0.0)
 
 
-# The steps of a placement and how many numbers each takes (scale takes 1 or 3).
-STEP_NUMBERS = {"scale": (1, 3), "rotate": (4,), "rotate_y": (1,), "translate": (3,),
-                "moving": (3,)}
-
-
 def placement_from_words(words) -> Placement:
-    """A placement from the words after `instance OBJECT`: scale S | scale X Y Z,
-    rotate X Y Z DEGREES, rotate_y DEGREES, translate X Y Z, in the order written, and
-    moving X Y Z (a translation over the shutter, from the place at its opening)."""
-    placement, index = Placement(), 0
-    while index < len(words):
-        step = words[index]
-        if step not in STEP_NUMBERS:
-            raise PlacementError(f"unknown placement step '{step}'")
-        numbers = []
-        for word in words[index + 1: index + 1 + max(STEP_NUMBERS[step])]:
-            try:
-                numbers.append(float(word))
-            except ValueError:
-                break
-        count = max((n for n in STEP_NUMBERS[step] if n <= len(numbers)), default=None)
-        if count is None:
-            raise PlacementError(f"{step} needs {' or '.join(map(str, STEP_NUMBERS[step]))}"
-                                 " numbers")
-        values, index = numbers[:count], index + 1 + count
-        if step == "scale":
-            placement = placement.then(np.diag(values * 3 if count == 1 else values))
-        elif step == "rotate":
-            placement = placement.then(rotation(values[:3], values[3]))
-        elif step == "rotate_y":
-            placement = placement.then(rotation((0, 1, 0), values[0]))
-        elif step == "translate":
-            placement = placement.then(offset=values)
-        else:
-            placement.velocity = placement.velocity + np.asarray(values)
-    if not abs(np.linalg.det(placement.linear)) > 1e-12:
-        raise PlacementError("the placement squashes the object flat (its determinant is 0)")
-    return placement
+    """A placement from the words after `instance OBJECT`, read by the scene reader
+    (scene_io.read_instance: scale S | scale X Y Z, rotate X Y Z DEGREES, rotate_y
+    DEGREES, translate X Y Z in the order written, moving X Y Z). A mistake raises its
+    scene_io.SceneError."""
+    instance = scene_io.read_instance(["placed", *words])
+    world = instance.world_from_object()
+    return Placement(world[:3, :3], world[:3, 3], np.asarray(instance.motion, dtype=np.float64))
 
 
 # ---------------------------------------------------------------------------------------

@@ -15,6 +15,9 @@ common/course/scene_file.h and in assets/scenes/README.md:
     triangle AX AY AZ BX BY BZ CX CY CZ MATERIAL [name NAME]
     mesh PATH MATERIAL [scale S] [rotate_y DEGREES] [translate X Y Z] [name NAME]
     environment PATH [scale S] [rotate_y DEGREES]
+    object NAME begin ... end
+    instance OBJECT [scale S | scale X Y Z] [rotate X Y Z DEGREES] [rotate_y DEGREES]
+             [translate X Y Z] [moving X Y Z] [name NAME]
 
 load_scene(path, mesh_folders) -> Scene. Any problem raises SceneError("file:line: ...");
 line 0 means the file as a whole. Image paths are found as mesh paths are; what a
@@ -62,6 +65,8 @@ class SceneCamera:
     lens_radius: float = 0.0     # the aperture's radius (metres); 0 is the pinhole
     focus_distance: float = 0.0  # with a lens: the sharp plane, metres along look
     medium: str | None = None    # the medium around the camera (`medium MEDIUM`)
+    shutter_open: float = 0.0    # seconds (`shutter OPEN CLOSE`); both 0 when not written
+    shutter_close: float = 0.0
 
     def as_camera(self) -> camera_rays.Camera:
         return camera_rays.Camera(self.eye, self.look, self.up, self.focal_length,
@@ -185,6 +190,58 @@ class Mesh:
         return matrix
 
 
+def rotation_matrix(axis, degrees) -> np.ndarray:
+    """3 x 3: a turn by `degrees` about `axis` (any length), counter-clockwise seen from
+    the axis's tip (Rodrigues' formula; glm::rotate and Mitsuba's rotate with a unit axis)."""
+    x, y, z = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    cross = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return c * np.eye(3) + s * cross + (1.0 - c) * np.outer((x, y, z), (x, y, z))
+
+
+@dataclass
+class SceneObject:
+    """object NAME begin ... end: shapes drawn only where instances place them."""
+    name: str
+    line: int = 0
+    spheres: list = field(default_factory=list)
+    quads: list = field(default_factory=list)
+    triangles: list = field(default_factory=list)
+    meshes: list = field(default_factory=list)
+
+    def is_empty(self) -> bool:
+        return not (self.spheres or self.quads or self.triangles or self.meshes)
+
+
+@dataclass
+class Instance:
+    """instance OBJECT [steps] [moving X Y Z] [name NAME]: `steps` as written, each
+    (kind, numbers): ("scale", (x, y, z)), ("rotate", (x, y, z, degrees)),
+    ("rotate_y", (degrees,)), ("translate", (x, y, z))."""
+    object: str
+    steps: list = field(default_factory=list)
+    motion: tuple = (0.0, 0.0, 0.0)
+    name: str = ""
+    line: int = 0
+
+    def world_from_object(self) -> np.ndarray:
+        """4x4, where the instance is when the shutter opens: each step multiplies from
+        the left, so the first written applies to the object first."""
+        world = np.eye(4)
+        for kind, values in self.steps:
+            step = np.eye(4)
+            if kind == "scale":
+                step[:3, :3] = np.diag(values)
+            elif kind == "rotate":
+                step[:3, :3] = rotation_matrix(values[:3], values[3])
+            elif kind == "rotate_y":
+                step[:3, :3] = rotation_matrix((0.0, 1.0, 0.0), values[0])
+            else:
+                step[:3, 3] = values
+            world = step @ world
+        return world
+
+
 @dataclass
 class Environment:
     """environment PATH [scale S] [rotate_y DEGREES]: a latitude-longitude radiance map
@@ -208,6 +265,8 @@ class Scene:
     meshes: list = field(default_factory=list)
     environment: Environment | None = None  # the `environment` line, if there is one
     media: dict = field(default_factory=dict)  # name -> Medium, in file order
+    objects: dict = field(default_factory=dict)  # name -> SceneObject, in file order
+    instances: list = field(default_factory=list)
 
     def shapes(self):
         """(kind, index, shape) for every shape: spheres, quads, triangles, meshes."""
@@ -295,7 +354,36 @@ def is_degenerate(edge1, edge2) -> bool:
     return area <= 1e-7 * np.linalg.norm(edge1) * np.linalg.norm(edge2)
 
 
+def looks_like_number(word: str) -> bool:
+    """Where a step's numbers end: the next word that starts as no number does."""
+    return word[0].isdigit() or word[0] in "-+."
+
+
 def read_camera(words) -> SceneCamera:
+    shutter = None  # shutter OPEN CLOSE, anywhere after the sensor, is taken out first
+    for i in range(16, len(words)):
+        if words[i] != "shutter":
+            continue
+        if i + 2 >= len(words) or not looks_like_number(words[i + 1]) or \
+                not looks_like_number(words[i + 2]):
+            raise SceneError("the camera's shutter needs two numbers, OPEN CLOSE (seconds), "
+                             "once")
+        shutter = (number(words[i + 1]), number(words[i + 2]))
+        if not (shutter[0] >= 0 and shutter[1] >= shutter[0]):
+            raise SceneError(f"the camera's shutter '{words[i + 1]}' '{words[i + 2]}' must "
+                             "open at 0 or later and close no earlier than it opens")
+        if "shutter" in words[i + 3:]:
+            raise SceneError("the camera's shutter needs two numbers, OPEN CLOSE (seconds), "
+                             "once")
+        words = words[:i] + words[i + 3:]
+        break
+    camera = read_camera_fields(words)
+    if shutter is not None:
+        camera.shutter_open, camera.shutter_close = shutter
+    return camera
+
+
+def read_camera_fields(words) -> SceneCamera:
     if len(words) < 16 or len(words) > 22 or len(words) % 2:
         raise SceneError("'camera' needs 16 fields (eye X Y Z look X Y Z up X Y Z focal F "
                          "sensor S, then optionally lens RADIUS focus DISTANCE and medium "
@@ -329,7 +417,8 @@ def read_camera(words) -> SceneCamera:
             i += 2
         else:
             raise SceneError(f"unexpected '{option}' in 'camera' (after the sensor: lens "
-                             "RADIUS focus DISTANCE, medium MEDIUM, each once)")
+                             "RADIUS focus DISTANCE, medium MEDIUM, shutter OPEN CLOSE, each "
+                             "once)")
         seen.add(option)
     return camera
 
@@ -609,6 +698,58 @@ def read_environment(words, scene_path, mesh_folders, line) -> Environment:
     return environment
 
 
+INSTANCE_FORMS = {"scale": (1, 3), "rotate": (4,), "rotate_y": (1,), "translate": (3,),
+                  "moving": (3,)}
+INSTANCE_NEEDS = {"scale": "1 number (S) or 3 (X Y Z)", "rotate": "4 numbers (axis X Y Z, "
+                  "DEGREES)", "rotate_y": "1 number (DEGREES)", "translate": "3 numbers (X Y Z)",
+                  "moving": "3 numbers (X Y Z)"}
+
+
+def read_instance(words, line=0) -> Instance:
+    """instance OBJECT [scale S | scale X Y Z] [rotate X Y Z DEGREES] [rotate_y DEGREES]
+    [translate X Y Z] [moving X Y Z] [name NAME]"""
+    if not words:
+        raise SceneError("'instance' needs the name of an object, then its placement")
+    if not NAME.match(words[0]):
+        raise SceneError(f"object name '{words[0]}': use letters, digits, '_' and '-', "
+                         "starting with a letter or '_'")
+    instance, seen, i = Instance(words[0], line=line), set(), 1
+    while i < len(words):
+        step = words[i]
+        count = 0
+        while i + 1 + count < len(words) and looks_like_number(words[i + 1 + count]):
+            count += 1
+        if step == "name" and "name" not in seen and i + 1 < len(words):
+            instance.name = shape_name(words[i + 1])
+            seen.add("name")
+            i += 2
+            continue
+        if step not in INSTANCE_FORMS or (step == "moving" and "moving" in seen):
+            raise SceneError(f"unexpected '{step}' in 'instance' (expected scale, rotate, "
+                             "rotate_y, translate, and moving X Y Z and name NAME once each)")
+        if count not in INSTANCE_FORMS[step]:
+            raise SceneError(f"'{step}' needs {INSTANCE_NEEDS[step]}, got {count} "
+                             f"number{'' if count == 1 else 's'}")
+        values = tuple(number(word) for word in words[i + 1:i + 1 + count])
+        if step == "scale":
+            values = values * 3 if count == 1 else values
+            if 0.0 in values:
+                raise SceneError("scale by 0 squashes the object flat")
+        if step == "rotate" and not any(values[:3]):
+            raise SceneError("rotate needs an axis that is not 0 0 0")
+        if step == "moving":
+            instance.motion = values
+            seen.add("moving")
+        else:
+            instance.steps.append((step, values))
+        i += 1 + count
+    determinant = float(np.linalg.det(instance.world_from_object()[:3, :3]))
+    if not (math.isfinite(determinant) and abs(determinant) > 1e-24):
+        raise SceneError("the placement squashes the object flat or blows it up (the "
+                         f"determinant of its matrix is {determinant:.3g})")
+    return instance
+
+
 def parse_scene(text: str, path, mesh_folders=()) -> Scene:
     """Parses scene text; `path` names it in messages and anchors relative mesh paths."""
     path = absolute(path)
@@ -616,6 +757,11 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
     materials, material_lines, uses = {}, {}, []  # uses: (line, material, shape kind)
     interiors = []  # (line, shape) for each sphere or mesh with an interior medium
     scene = Scene(path, None)
+    open_object = None  # the object between its `begin` and `end`
+    emitting_uses = []  # (line, material, object name) for the shapes of objects
+
+    def shapes():
+        return scene if open_object is None else open_object
 
     def fail(line, message):
         raise SceneError(f"{path}:{line}: {message}")
@@ -631,6 +777,18 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
             if not words:
                 continue
             keyword, words = words[0], words[1:]
+            if open_object is not None and keyword not in ("sphere", "quad", "triangle",
+                                                            "mesh", "end"):
+                where = f"object '{open_object.name}' (line {open_object.line})"
+                if keyword == "instance" and words and words[0] == open_object.name:
+                    raise SceneError(f"object '{open_object.name}' is used inside itself")
+                if keyword in ("instance", "object"):
+                    raise SceneError(f"'{keyword}' inside {where}: objects hold shapes, not "
+                                     "objects or instances; 'end' it first")
+                raise SceneError(f"'{keyword}' inside {where}: only sphere, quad, triangle "
+                                 "and mesh statements stand between its begin and end")
+            if open_object is not None and keyword in ("sphere", "quad", "triangle", "mesh"):
+                emitting_uses.append((line_number, None, open_object.name))
             if keyword == "camera":
                 if camera is not None:
                     raise SceneError(f"a second camera (the first is on line {camera_line})")
@@ -651,7 +809,10 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
             elif keyword == "sphere":
                 sphere = read_sphere(words)
                 uses.append((line_number, sphere.material, "sphere"))
-                scene.spheres.append(sphere)
+                if sphere.interior is not None and open_object is not None:
+                    raise SceneError(f"object '{open_object.name}': an object's shapes hold "
+                                     "no medium (interior)")
+                shapes().spheres.append(sphere)
                 if sphere.interior is not None:
                     interiors.append((line_number, sphere))
             elif keyword == "medium":
@@ -669,7 +830,7 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                     raise SceneError("the quad has zero area: an edge is zero or the two "
                                      "edges are parallel")
                 uses.append((line_number, quad.material, "quad"))
-                scene.quads.append(quad)
+                shapes().quads.append(quad)
             elif keyword == "triangle":
                 fields, name = shape_fields("triangle", words, 10,
                                             "AX AY AZ BX BY BZ CX CY CZ MATERIAL")
@@ -679,11 +840,14 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                 if is_degenerate(b - a, c - a):
                     raise SceneError("the triangle has zero area: its corners are on one line")
                 uses.append((line_number, triangle.material, "triangle"))
-                scene.triangles.append(triangle)
+                shapes().triangles.append(triangle)
             elif keyword == "mesh":
                 mesh = read_mesh(words, path, mesh_folders, line_number)
                 uses.append((line_number, mesh.material, "mesh"))
-                scene.meshes.append(mesh)
+                if mesh.interior is not None and open_object is not None:
+                    raise SceneError(f"object '{open_object.name}': an object's shapes hold "
+                                     "no medium (interior)")
+                shapes().meshes.append(mesh)
                 if mesh.interior is not None:
                     interiors.append((line_number, mesh))
             elif keyword == "environment":
@@ -692,20 +856,55 @@ def parse_scene(text: str, path, mesh_folders=()) -> Scene:
                                      f"{scene.environment.line})")
                 scene.environment = read_environment(words, path, mesh_folders,
                                                      line_number)
+            elif keyword == "object":
+                if len(words) != 2 or words[1] != "begin":
+                    raise SceneError("'object' needs a name and the word begin: object NAME "
+                                     "begin")
+                if not NAME.match(words[0]):
+                    raise SceneError(f"object name '{words[0]}': use letters, digits, '_' "
+                                     "and '-', starting with a letter or '_'")
+                if words[0] in scene.objects:
+                    raise SceneError(f"object '{words[0]}' is already defined on line "
+                                     f"{scene.objects[words[0]].line}")
+                open_object = scene.objects[words[0]] = SceneObject(words[0], line_number)
+            elif keyword == "end":
+                if open_object is None:
+                    raise SceneError("'end' without an 'object NAME begin' before it")
+                if words:
+                    raise SceneError(f"'end' takes nothing after it, got '{words[0]}'")
+                if open_object.is_empty():
+                    error = SceneError(f"object '{open_object.name}' is empty: put shapes "
+                                       "between its begin and end")
+                    error.line = open_object.line  # named at its `object` line
+                    raise error
+                open_object = None
+            elif keyword == "instance":
+                scene.instances.append(read_instance(words, line_number))
             else:
                 raise SceneError(f"unknown keyword '{keyword}' (expected camera, texture, "
-                                 "material, medium, sphere, quad, triangle, mesh or "
-                                 "environment)")
+                                 "material, medium, sphere, quad, triangle, mesh, "
+                                 "environment, object, end or instance)")
         except SceneError as error:
-            fail(line_number, str(error))
+            fail(getattr(error, "line", line_number), str(error))
+
+    if open_object is not None:
+        fail(open_object.line, f"object '{open_object.name}' has no 'end'")
+    object_shape_lines = {line: name for line, _, name in emitting_uses}
 
     for line_number, material, kind in uses:
         if material not in materials:
             fail(line_number, f"material '{material}' is not defined")
+        if line_number in object_shape_lines and materials[material].emits:
+            fail(line_number, f"object '{object_shape_lines[line_number]}': material "
+                              f"'{material}' emits, and an object's shapes may not (a light "
+                              "is placed as it is, not through instances)")
         # A sphere or a triangle line has no (u, v) to look a texture up with.
         if materials[material].texture is not None and kind not in ("quad", "mesh"):
             fail(line_number, f"material '{material}' is textured, and this shape has no "
                               "texture coordinates: textures apply to quads and meshes")
+    for instance in scene.instances:
+        if instance.object not in scene.objects:
+            fail(instance.line, f"object '{instance.object}' is not defined")
     media_uses = [(line, shape.interior, shape) for line, shape in interiors]
     if camera is not None and camera.medium is not None:
         media_uses.insert(0, (camera_line, camera.medium, None))

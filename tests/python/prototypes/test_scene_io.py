@@ -105,7 +105,7 @@ MISTAKES = [
     ("", 0, "empty file"),
     (VALID + "cylinder 0 0 0 1 lamp\n", 4,
      "unknown keyword 'cylinder' (expected camera, texture, material, medium, sphere, "
-     "quad, triangle, mesh or environment)"),
+     "quad, triangle, mesh, environment, object, end or instance)"),
     (VALID + "sphere 0 0 0 lamp\n", 4,
      "'sphere' needs 5 fields (CX CY CZ RADIUS MATERIAL), then optionally interior MEDIUM "
      "and name NAME; got 4"),
@@ -289,14 +289,14 @@ def test_lens_zero_is_the_pinhole(tmp_path):
 TEXTURE_MISTAKES = [
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01"), 1,
      "unexpected 'lens' in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
-     "medium MEDIUM, each once)"),
+     "medium MEDIUM, shutter OPEN CLOSE, each once)"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens -0.01 focus 2"), 1,
      "the lens radius '-0.01' must be 0 or more"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 focus 0"), 1,
      "the focus distance '0' must be positive"),
     (VALID.replace("sensor 0.036", "sensor 0.036 aperture 0.01 focus 2"), 1,
      "unexpected 'aperture' in 'camera' (after the sensor: lens RADIUS focus DISTANCE, "
-     "medium MEDIUM, each once)"),
+     "medium MEDIUM, shutter OPEN CLOSE, each once)"),
     (VALID.replace("sensor 0.036", "sensor 0.036 lens 0.01 distance 2"), 1,
      "'camera' expects 'focus' here, got 'distance'"),
     (VALID + "texture t\n", 4, "'texture' needs a name and a kind (NAME image PATH "
@@ -551,3 +551,104 @@ def test_negative_zero_is_a_radiance_of_zero(tmp_path):
     path = tmp_path / "s.scene"
     path.write_text(LIT_BY_SKY + "environment zero.pfm\n")
     assert scene_io.load_scene(path).environment is not None
+
+
+
+# ---------------------------------------------------------------------------------------
+# Objects and instances (the instances chapter), as tests/cpp/test_scene_file.cpp reads them
+# ---------------------------------------------------------------------------------------
+
+OBJECTS = ("material white albedo 0.8 0.8 0.8\n"
+           "object pot begin\n"
+           "  sphere 0 0.5 0 0.5 white name lid\n"
+           "  quad 0 0 0 1 0 0 0 0 1 white\n"
+           "  triangle 0 0 0 1 0 0 0 1 0 white\n"
+           "end\n"
+           "instance pot\n"
+           "instance pot scale 2 rotate_y 30 translate 1 0 -2 name big\n"
+           "instance pot scale -1 1 0.5 rotate 1 1 0 45 translate 0 1 0 moving 0.5 0 0\n")
+
+
+def test_reads_objects_and_instances(tmp_path):
+    path = tmp_path / "objects.scene"
+    path.write_text(CAMERA.replace("\n", " shutter 0 0.5\n") + VALID[len(CAMERA):] + OBJECTS)
+    scene = scene_io.load_scene(path)
+    assert len(scene.spheres) == 1  # the lamp: the object's shapes are its own
+    pot = scene.objects["pot"]
+    assert pot.line == 5 and pot.spheres[0].name == "lid"
+    assert len(pot.quads) == len(pot.triangles) == 1
+    assert [i.name for i in scene.instances] == ["", "big", ""]
+    assert scene.instances[2].motion == (0.5, 0.0, 0.0)
+    assert (scene.camera.shutter_open, scene.camera.shutter_close) == (0.0, 0.5)
+    point = np.array([1.0, 0.0, 0.0, 1.0])
+    assert np.allclose(scene.instances[0].world_from_object(), np.eye(4))
+    # scale 2, a quarter of a right-handed turn less 60 degrees about y, then a move
+    turned = scene.instances[1].world_from_object() @ point
+    angle = np.radians(30)
+    assert np.allclose(turned[:3], [1 + 2 * np.cos(angle), 0, -2 - 2 * np.sin(angle)])
+    mirrored = scene.instances[2].world_from_object()
+    assert np.linalg.det(mirrored[:3, :3]) == pytest.approx(-0.5)
+
+
+OBJECT_MISTAKES = [
+    ("instance nothing", 5, "object 'nothing' is not defined"),
+    ("object o begin\nend", 5, "object 'o' is empty: put shapes between its begin and end"),
+    ("object o begin\nsphere 0 0 0 1 w\ninstance o\nend", 7, "object 'o' is used inside itself"),
+    ("object o begin\nsphere 0 0 0 1 w\nend\nobject p begin\ninstance o\nend", 9,
+     "'instance' inside object 'p' (line 8): objects hold shapes, not objects or instances; "
+     "'end' it first"),
+    ("object o begin\nobject p begin", 6, "'object' inside object 'o' (line 5): objects hold "
+     "shapes, not objects or instances; 'end' it first"),
+    ("object o begin\nmaterial x albedo 1 1 1", 6, "'material' inside object 'o' (line 5): "
+     "only sphere, quad, triangle and mesh statements stand between its begin and end"),
+    ("end", 5, "'end' without an 'object NAME begin' before it"),
+    ("object o begin\nsphere 0 0 0 1 w", 5, "object 'o' has no 'end'"),
+    ("object o", 5, "'object' needs a name and the word begin: object NAME begin"),
+    ("object 9 begin", 5, "object name '9': use letters, digits, '_' and '-', starting with "
+     "a letter or '_'"),
+    ("object o begin\nsphere 0 0 0 1 w\nend\nobject o begin", 8,
+     "object 'o' is already defined on line 5"),
+    ("object o begin\nsphere 0 0 0 1 lamp\nend", 6, "object 'o': material 'lamp' emits, and "
+     "an object's shapes may not (a light is placed as it is, not through instances)"),
+    ("instance o scale 0", 5, "scale by 0 squashes the object flat"),
+    ("instance o scale 1 0 1", 5, "scale by 0 squashes the object flat"),
+    ("instance o scale 1e-10 translate 1 1 1", 5, "the placement squashes the object flat or "
+     "blows it up (the determinant of its matrix is 1e-30)"),
+    ("instance o scale 1 2", 5, "'scale' needs 1 number (S) or 3 (X Y Z), got 2 numbers"),
+    ("instance o rotate 0 0 0 30", 5, "rotate needs an axis that is not 0 0 0"),
+    ("instance o rotate 0 1 0", 5, "'rotate' needs 4 numbers (axis X Y Z, DEGREES), got 3 "
+     "numbers"),
+    ("instance o translate 1 2", 5, "'translate' needs 3 numbers (X Y Z), got 2 numbers"),
+    ("instance o rotate_y", 5, "'rotate_y' needs 1 number (DEGREES), got 0 numbers"),
+    ("instance o spin 3", 5, "unexpected 'spin' in 'instance' (expected scale, rotate, "
+     "rotate_y, translate, and moving X Y Z and name NAME once each)"),
+    ("instance o moving 1 0 0 moving 1 0 0", 5, "unexpected 'moving' in 'instance' (expected "
+     "scale, rotate, rotate_y, translate, and moving X Y Z and name NAME once each)"),
+    ("instance o translate 1 x 3", 5, "'translate' needs 3 numbers (X Y Z), got 1 number"),
+    ("instance", 5, "'instance' needs the name of an object, then its placement"),
+    ("medium m homogeneous sigma_a 1 1 1 sigma_s 0 0 0\nmaterial e boundary\nobject o begin\n"
+     "sphere 0 0 0 1 e interior m\nend", 8,
+     "object 'o': an object's shapes hold no medium (interior)"),
+]
+
+
+@pytest.mark.parametrize("lines, line, message", OBJECT_MISTAKES,
+                         ids=[message[:40] for _, _, message in OBJECT_MISTAKES])
+def test_object_mistakes_are_the_cpp_readers(tmp_path, lines, line, message):
+    path = tmp_path / "bad.scene"
+    path.write_text(VALID + "material w albedo 1 1 1\n" + lines + "\n")
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value) == f"{path}:{line}: {message}"
+
+
+@pytest.mark.parametrize("shutter, message", [
+    ("shutter 1 0.5", "the camera's shutter '1' '0.5' must open at 0 or later and close no "
+                      "earlier than it opens"),
+    ("shutter 1", "the camera's shutter needs two numbers, OPEN CLOSE (seconds), once")])
+def test_shutter_mistakes_are_the_cpp_readers(tmp_path, shutter, message):
+    path = tmp_path / "bad.scene"
+    path.write_text(CAMERA.replace("\n", f" {shutter}\n") + VALID[len(CAMERA):])
+    with pytest.raises(scene_io.SceneError) as error:
+        scene_io.load_scene(path)
+    assert str(error.value) == f"{path}:1: {message}"
