@@ -255,27 +255,43 @@ def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounc
                                                   "value": list(material.emission)}}
         return shape_dict
 
-    for index, quad in enumerate(scene.quads):
-        result[f"quad_{index}"] = surface(
-            {"type": "rectangle", "to_world": T(quad_to_world(quad))}, quad.material)
-    for index, sphere in enumerate(scene.spheres):
-        result[f"sphere_{index}"] = surface(
-            {"type": "sphere", "center": list(sphere.center), "radius": sphere.radius},
-            sphere.material, sphere.interior)
+    def add_shapes(into: dict, holder, prefix: str = ""):
+        """The spheres, quads, meshes and lone triangles of the scene or of an object."""
+        for index, quad in enumerate(holder.quads):
+            into[f"{prefix}quad_{index}"] = surface(
+                {"type": "rectangle", "to_world": T(quad_to_world(quad))}, quad.material)
+        for index, sphere in enumerate(holder.spheres):
+            into[f"{prefix}sphere_{index}"] = surface(
+                {"type": "sphere", "center": list(sphere.center), "radius": sphere.radius},
+                sphere.material, sphere.interior)
+        for index, mesh in enumerate(holder.meshes):
+            into[f"{prefix}mesh_{index}"] = surface(
+                {"type": "obj", "filename": str(mesh.path), "flip_tex_coords": False,
+                 "to_world": T(mesh.world_from_mesh())}, mesh.material, mesh.interior)
+        if holder.triangles:
+            if work_folder is None:
+                raise ValueError("the scene has triangles: pass a work_folder for their OBJ "
+                                 "files")
+            for material in sorted({t.material for t in holder.triangles}):
+                path = Path(work_folder) / f"{prefix}triangles_{material}.obj"
+                write_triangles_obj(path, [t for t in holder.triangles
+                                           if t.material == material])
+                into[f"{prefix}triangles_{material}"] = surface(
+                    {"type": "obj", "filename": str(path), "face_normals": True}, material)
+
+    add_shapes(result, scene)
     if scene.environment is not None:
         result["environment"] = mitsuba_envmap(mi, scene.environment)
-    for index, mesh in enumerate(scene.meshes):
-        result[f"mesh_{index}"] = surface(
-            {"type": "obj", "filename": str(mesh.path), "flip_tex_coords": False,
-             "to_world": T(mesh.world_from_mesh())}, mesh.material, mesh.interior)
-    if scene.triangles:
-        if work_folder is None:
-            raise ValueError("the scene has triangles: pass a work_folder for their OBJ files")
-        for material in sorted({t.material for t in scene.triangles}):
-            path = Path(work_folder) / f"triangles_{material}.obj"
-            write_triangles_obj(path, [t for t in scene.triangles if t.material == material])
-            result[f"triangles_{material}"] = surface(
-                {"type": "obj", "filename": str(path), "face_normals": True}, material)
+    # Objects are Mitsuba's shape groups, drawn only through its instances, whose
+    # to_world is the placement (each step multiplying from the left, as ours).
+    for name, scene_object in scene.objects.items():
+        group = {"type": "shapegroup"}
+        add_shapes(group, scene_object, prefix=f"{name}_")
+        result[f"object_{name}"] = group
+    for index, instance in enumerate(scene.instances):
+        result[f"instance_{index}"] = {
+            "type": "instance", "shapegroup": {"type": "ref", "id": f"object_{instance.object}"},
+            "to_world": T(instance.world_from_object())}
     return result
 
 
@@ -395,6 +411,38 @@ def mesh_corners(mesh: scene_io.Mesh) -> np.ndarray:
     return world[np.asarray(triangles)]
 
 
+def instance_distances(scene: scene_io.Scene, instance: scene_io.Instance, eye,
+                       directions) -> np.ndarray:
+    """Nearest distance to any shape of the instance's object: its triangles, quads and
+    meshes placed in the world (an affine map takes a triangle to a triangle), its
+    spheres in the object's space (a sphere unevenly scaled is an ellipsoid), where the
+    rays' directions keep the length the map gives them, so t is the world's."""
+    scene_object = scene.objects[instance.object]
+    world = instance.world_from_object()
+    place = lambda corners: corners @ world[:3, :3].T + world[:3, 3]  # noqa: E731
+    best = np.full(directions.shape[:-1], np.inf)
+    corners = [np.array([[t.p0, t.p1, t.p2] for t in scene_object.triangles]).reshape(-1, 3, 3)]
+    for quad in scene_object.quads:
+        o, e1, e2 = (np.asarray(v, dtype=np.float64) for v in (quad.origin, quad.edge1,
+                                                              quad.edge2))
+        corners.append(np.array([[o, o + e1, o + e1 + e2], [o, o + e1 + e2, o + e2]]))
+    corners += [mesh_corners(mesh) for mesh in scene_object.meshes]
+    best = np.minimum(best, triangle_distances(eye, directions, place(np.concatenate(corners))))
+    object_from_world = np.linalg.inv(world)
+    local_eye = object_from_world[:3, :3] @ eye + object_from_world[:3, 3]
+    local_directions = directions @ object_from_world[:3, :3].T
+    for sphere in scene_object.spheres:
+        to_origin = local_eye - np.asarray(sphere.center, dtype=np.float64)
+        a = np.einsum("...i,...i", local_directions, local_directions)
+        half_b = local_directions @ to_origin
+        c = to_origin @ to_origin - sphere.radius ** 2
+        root = np.sqrt(np.maximum(half_b * half_b - a * c, 0.0))
+        near, far = (-half_b - root) / a, (-half_b + root) / a
+        t = np.where(near > 1e-9, near, far)
+        best = np.minimum(best, np.where((half_b * half_b >= a * c) & (t > 1e-9), t, np.inf))
+    return best
+
+
 def ray_directions(camera: scene_io.SceneCamera, width: int, height: int,
                    subsamples: int = 1) -> np.ndarray:
     """Unit directions (height * n, width * n, 3) of n x n rays per pixel: through the
@@ -431,6 +479,9 @@ def primary_ids(scene: scene_io.Scene, width: int, height: int, subsamples: int 
             t = triangle_distances(eye, directions, mesh_corners(shape))
         distances.append(t)
         names.append(scene.region_name(kind, index, shape))
+    for index, instance in enumerate(scene.instances):
+        distances.append(instance_distances(scene, instance, eye, directions))
+        names.append(instance.name or f"instance_{index}")
     if not distances:  # only an environment: every ray leaves the scene
         return np.full((height, width), MISS), names
     distances = np.stack(distances)

@@ -27,16 +27,22 @@ mat3 transposeOfM(Instance placed) {
 // direction a vector (M alone). The direction keeps the length M gives it: then the
 // point at t is the same point in both spaces, and a hit's t needs no converting.
 Ray rayToObject(Ray ray, Instance placed) {
+    // BEGIN SOLUTION the origin through M and the offset, the direction through M alone
     mat3 transposed = transposeOfM(placed);
     vec3 offset = vec3(placed.objectFromWorld0.w, placed.objectFromWorld1.w,
                        placed.objectFromWorld2.w);
     return Ray(ray.origin * transposed + offset, ray.direction * transposed);
+    // STUB: return ray;  // the world's ray as it is: every instance where its object is
+    // END SOLUTION
 }
 
 // A normal goes to the world by the inverse transpose of world-from-object: M is that
 // inverse, so it is M transposed. (The map itself would tilt the normals of an unevenly
 // scaled object; this keeps them at right angles to its surface.)
 vec3 normalToWorld(vec3 normal, Instance placed) {
+    // BEGIN SOLUTION the inverse transpose of world-from-object: M transposed
     return normalize(transposeOfM(placed) * normal);
+    // STUB: return normal;  // the object's own normal, unturned
+    // END SOLUTION
 }
 // --8<-- [end:to_object]
