@@ -172,6 +172,13 @@ GpuScene packScene(const course::SceneFile& scene, const BvhOptions& bvhOptions)
     return gpu;
 }
 
+size_t GpuScene::bytes() const {
+    return spheres.size() * sizeof(gpu::Sphere) + triangles.size() * sizeof(gpu::Triangle) +
+           (positions.size() + normals.size()) * sizeof(glm::vec4) +
+           uvs.size() * sizeof(glm::vec2) + bvh.nodes.size() * sizeof(gpu::BvhNode) +
+           instances.size() * sizeof(gpu::Instance);
+}
+
 SceneBuffers uploadScene(const GpuScene& scene, const std::vector<float>& environmentCdf) {
     using course::GpuBuffer;
     SceneBuffers buffers{GpuBuffer::fromVector(scene.spheres),

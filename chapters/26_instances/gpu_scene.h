@@ -37,6 +37,7 @@ struct GpuScene {
     InstanceStats instanceStats;
 
     size_t shapeCount() const { return spheres.size() + quads.size() + triangles.size(); }
+    size_t bytes() const;  // what the GPU keeps of the shapes, their trees and instances
 };
 
 // Chapter 09's packing of a mesh placed by worldFromMesh (an object's meshes: in the

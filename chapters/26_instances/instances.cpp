@@ -8,8 +8,6 @@
 
 #include <glm/gtc/matrix_access.hpp>
 
-#include "course/error.h"
-#include "course/text_file.h"
 #include "gpu_scene.h"
 #include "obj_loader.h"
 
@@ -57,11 +55,16 @@ uint32_t addObjectTree(GpuScene& gpu, size_t first, InstanceStats& stats) {
 // as chapter 09 packs a mesh (a quad as two triangles with their (a, b) as texture
 // coordinates), under their own tree. Its materials emit nothing (the reader checks).
 gpu::Instance addObject(GpuScene& gpu, const course::SceneFile& scene,
-                        const course::SceneObject& object, InstanceStats& stats) {
+                        const course::SceneObject& object, InstanceStats& stats,
+                        glm::vec3& low, glm::vec3& high) {
+    const size_t firstPosition = gpu.positions.size();
     gpu::Instance where{};
     where.firstSphere = uint32_t(gpu.spheres.size());
-    for (const course::SceneSphere& s : object.spheres)
+    low = glm::vec3(INFINITY), high = glm::vec3(-INFINITY);  // its box, in its own space
+    for (const course::SceneSphere& s : object.spheres) {
         gpu.spheres.push_back({s.center, s.radius, s.material, NO_EMITTER, 0u, 0u});
+        low = glm::min(low, s.center - s.radius), high = glm::max(high, s.center + s.radius);
+    }
     where.sphereCount = uint32_t(object.spheres.size());
 
     const size_t first = gpu.triangles.size();
@@ -79,28 +82,14 @@ gpu::Instance addObject(GpuScene& gpu, const course::SceneFile& scene,
     }
     for (const course::SceneMesh& m : object.meshes)
         addMesh(gpu, scene, loadObj(m.path), m.worldFromMesh(), m.material);
+    for (size_t i = firstPosition; i < gpu.positions.size(); ++i)
+        low = glm::min(low, glm::vec3(gpu.positions[i])),
+        high = glm::max(high, glm::vec3(gpu.positions[i]));
     stats.objectTriangles += gpu.triangles.size() - first;
     where.root = addObjectTree(gpu, first, stats);
     return where;
 }
 // --8<-- [end:object]
-
-// The object's box in its own space: its triangles' corners and its spheres.
-void objectBox(const GpuScene& gpu, const gpu::Instance& where, size_t firstTriangle,
-               size_t endTriangle, glm::vec3& low, glm::vec3& high) {
-    low = glm::vec3(INFINITY), high = glm::vec3(-INFINITY);
-    for (size_t i = firstTriangle; i < endTriangle; ++i)
-        for (uint32_t c : {gpu.triangles[i].corners.x, gpu.triangles[i].corners.y,
-                           gpu.triangles[i].corners.z}) {
-            low = glm::min(low, glm::vec3(gpu.positions[c]));
-            high = glm::max(high, glm::vec3(gpu.positions[c]));
-        }
-    for (uint32_t k = 0; k < where.sphereCount; ++k) {
-        const gpu::Sphere& s = gpu.spheres[where.firstSphere + k];
-        low = glm::min(low, s.center - s.radius);
-        high = glm::max(high, s.center + s.radius);
-    }
-}
 
 }  // namespace
 
@@ -112,17 +101,14 @@ void addInstances(GpuScene& gpu, const course::SceneFile& scene, glm::vec3& low,
     gpu.worldTriangleCount = uint32_t(gpu.triangles.size());
 
     // 1. Each object once, with its box in its own space.
-    const size_t positionsBefore = gpu.positions.size(), normalsBefore = gpu.normals.size();
-    const size_t uvsBefore = gpu.uvs.size();
+    const size_t bytesBefore = gpu.bytes();
     std::vector<gpu::Instance> objects;
-    std::vector<std::pair<glm::vec3, glm::vec3>> objectBoxes;
+    std::vector<std::pair<glm::vec3, glm::vec3>> objectBoxes(scene.objects.size());
     std::vector<size_t> objectTriangles;
-    for (const course::SceneObject& object : scene.objects) {
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
         const size_t first = gpu.triangles.size();
-        objects.push_back(addObject(gpu, scene, object, stats));
-        objectBoxes.emplace_back();
-        objectBox(gpu, objects.back(), first, gpu.triangles.size(), objectBoxes.back().first,
-                  objectBoxes.back().second);
+        objects.push_back(addObject(gpu, scene, scene.objects[i], stats, objectBoxes[i].first,
+                                    objectBoxes[i].second));
         objectTriangles.push_back(gpu.triangles.size() - first);
     }
 
@@ -170,13 +156,7 @@ void addInstances(GpuScene& gpu, const course::SceneFile& scene, glm::vec3& low,
     stats.objects = scene.objects.size();
     stats.instances = scene.instances.size();
     stats.instanceNodes = tree.nodes.size();
-    stats.memoryBytes = (stats.objectNodes + stats.instanceNodes) * sizeof(gpu::BvhNode) +
-                        stats.objectTriangles * sizeof(gpu::Triangle) +
-                        (gpu.positions.size() - positionsBefore) * sizeof(glm::vec4) +
-                        (gpu.normals.size() - normalsBefore) * sizeof(glm::vec4) +
-                        (gpu.uvs.size() - uvsBefore) * sizeof(glm::vec2) +
-                        (gpu.spheres.size() - gpu.worldSphereCount) * sizeof(gpu::Sphere) +
-                        gpu.instances.size() * sizeof(gpu::Instance);
+    stats.memoryBytes = gpu.bytes() - bytesBefore;
 }
 // --8<-- [end:add_instances]
 

@@ -17,10 +17,9 @@ struct GpuScene;
 
 // What was built, for --verbose, --json and the book.
 struct InstanceStats {
-    size_t objects = 0, instances = 0;
+    size_t objects = 0, instances = 0, objectNodes = 0, instanceNodes = 0;
     size_t objectTriangles = 0;  // each object's once, however often it is placed
     size_t placedTriangles = 0;  // what the instances show: as many written out
-    size_t objectNodes = 0, instanceNodes = 0;
     double instanceTreeMilliseconds = 0.0;  // the top level: rebuilt when instances move
     size_t memoryBytes = 0;  // the objects' triangles and trees, the instances and theirs
 };

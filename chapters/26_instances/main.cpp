@@ -80,8 +80,7 @@ int main(int argc, char** argv) {
                                         : "Fewer spheres and quads, or a lower --depth, fit.";
         course::checkLoopBudget({sceneFile.path, looped, "shapes tested in loops",
                                  2 * rounds, wayOut});
-        session.stats().set("shapes", double(scene.worldSphereCount + scene.quads.size() +
-                                             scene.worldTriangleCount));
+        session.stats().set("shapes", double(scene.shapeCount()));
         session.stats().set("triangles", double(scene.triangles.size()));
         session.stats().set("emitters", double(scene.emitters.size()));
         session.stats().set("textures", double(scene.textures.size()));

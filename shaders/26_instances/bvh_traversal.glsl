@@ -2,10 +2,9 @@
 // every triangle: a box that the ray misses rules out every triangle inside it.
 //
 // Chapter 26: one walk over three kinds of tree in one node array: the world's own
-// triangles' (from node 0), the instances' (from instanceRoot: its leaves are
-// instances) and each object's (in the object's own space). Reaching an instance, the
-// ray is carried into its object's space and the walk goes on down the object's tree;
-// when the stack is back to where it was, the ray is the world's again.
+// triangles' (from node 0), the instances' (from instanceRoot; its leaves are instances)
+// and each object's. At an instance the ray goes into its object's space and the walk
+// down the object's tree; when the stack is back to where it was, the world's again.
 //
 // What the including shader provides, before #include "bvh_traversal.glsl":
 //   - BVH_NODES_BINDING, struct BvhNode, BVH_MAX_LEAF_SIZE (4) and BVH_STACK_SIZE

@@ -2,8 +2,7 @@
 // and, if it glows, its place in the emitter list; the triangles' corners, normals and
 // texture coordinates in three more (textures.glsl). A ray tests every sphere and quad
 // (a scene has a few dozen) and finds its triangles (a mesh may have millions) through
-// the bounding volume hierarchy: bvh_traversal.glsl. Instances of objects, and the
-// objects' own spheres (after the world's in the sphere buffer), through the same walk.
+// the bounding volume hierarchy: bvh_traversal.glsl, which finds the instances' too.
 
 layout(std430, binding = SPHERES_BINDING) readonly buffer Spheres { Sphere spheres[]; };
 layout(std430, binding = QUADS_BINDING) readonly buffer Quads { Quad quads[]; };
@@ -30,9 +29,8 @@ struct Hit {
     vec2 uv;               // texture coordinates: a quad's (a, b), a mesh's from its vt
 };
 
-// The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax). The
-// direction may have any length (a ray carried into an instance's object keeps the
-// length the map gives it): a t^2 + 2 halfB t + c = 0.
+// The nearer root of |origin + t direction - centre|^2 = r^2 inside (tMin, tMax), for a
+// direction of any length a (an instance's ray keeps the length its map gives it).
 bool hitSphere(Ray ray, Sphere sphere, float tMin, float tMax, out float t) {
     vec3 toOrigin = ray.origin - sphere.center;
     float a = dot(ray.direction, ray.direction);
@@ -41,7 +39,7 @@ bool hitSphere(Ray ray, Sphere sphere, float tMin, float tMax, out float t) {
     float discriminant = halfB * halfB - a * c;
     if (discriminant < 0.0) return false;
     float root = sqrt(discriminant);
-    // -b - sqrt(...) loses digits when b is large and negative: c / q is exact there.
+    // -b - sqrt(...) loses digits when b is large and negative: q / a is exact there.
     float q = -halfB - (halfB >= 0.0 ? root : -root);
     if (q == 0.0) return false;  // the origin on the sphere, the ray along its tangent
     float t1 = q / a, t2 = c / q;
