@@ -1181,3 +1181,58 @@ CHAPTER_25 = [
 ]
 
 CATALOGUE["25"] = CHAPTER_25
+
+
+# ---------------------------------------------------------------- chapter 26
+
+I = "26_instances"
+TO_OBJECT = "    return Ray(ray.origin * transposed + offset, ray.direction * transposed);\n"
+NORMAL_BACK = "    return normalize(transposeOfM(placed) * normal);\n"
+
+CHAPTER_26 = [
+    Variant(I, "the map as a matrix on the right: M v written out", True, (
+        Edit("shaders/instances.glsl", TO_OBJECT,
+             "    mat3 m = transpose(transposed);\n"
+             "    return Ray(m * ray.origin + offset, m * ray.direction);\n"),)),
+    Variant(I, "the normal as a sum of M's rows", True, (
+        Edit("shaders/instances.glsl", NORMAL_BACK,
+             "    return normalize(normal.x * placed.objectFromWorld0.xyz +\n"
+             "                     normal.y * placed.objectFromWorld1.xyz +\n"
+             "                     normal.z * placed.objectFromWorld2.xyz);\n"),)),
+
+    Variant(I, "the direction normalised in object space", False, (
+        Edit("shaders/instances.glsl", TO_OBJECT,
+             "    return Ray(ray.origin * transposed + offset,\n"
+             "               normalize(ray.direction * transposed));\n"),),
+        explanation=("Normalised in object space, the direction measures t in the object's "
+                     "units: scaled instances move."),
+        section="Into the object's space"),
+    Variant(I, "the offset added to the direction too", False, (
+        Edit("shaders/instances.glsl", TO_OBJECT,
+             "    return Ray(ray.origin * transposed + offset, ray.direction * transposed + offset);\n"),),
+        explanation=("A direction is a vector: the map's offset moves points, never "
+                     "directions."),
+        section="Into the object's space"),
+    Variant(I, "the normal turned by the placement itself", False, (
+        Edit("shaders/instances.glsl", NORMAL_BACK,
+             "    return normalize(inverse(transpose(transposeOfM(placed))) * normal);\n"),),
+        explanation=("Normals go back by the inverse transpose; the placement itself tilts "
+                     "them on unevenly scaled instances."),
+        section="Normals back to the world"),
+    Variant(I, "the normal left in the object's space", False, (
+        Edit("shaders/instances.glsl", NORMAL_BACK, "    return normal;\n"),),
+        explanation=("A normal found in the object's space must be turned to the world "
+                     "before it shades."),
+        section="Normals back to the world"),
+    # The host's part: the instance's world box left as its object's box, so that an
+    # instance away from its object's place is never entered.
+    Variant(I, "the instance's box left in the object's space", False, (
+        Edit("chapters/instances.cpp",
+             "            const glm::vec3 world(worldFromObject * glm::vec4(p, 1.0f));\n",
+             "            const glm::vec3 world(p);\n"),),
+        explanation=("The top level needs each instance's box in the world: the object's "
+                     "corners, placed."),
+        section="A tree over the instances"),
+]
+
+CATALOGUE["26"] = CHAPTER_26

@@ -396,6 +396,18 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the checkered grid", 3, [*TINY, "--scene", "grid_checker"],
                   "statistical", "after_due_date", sampling=PATH_SAMPLING),
     ],
+    # Chapter 26's exercises take a ray into an instance's object space and its normal
+    # back to the world. Wrong, instances stand where their objects are, at the wrong
+    # distance, or shaded with tilted normals: judged by statistics, as the path tracer's
+    # pictures are (direct light first, then the whole path), and the normals one ray
+    # through each pixel's centre sees after the due date.
+    "26": [
+        GradeTest("the instances, direct light", 4, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the instances", 3, TINY, "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the instances' normals", 3, [*SMALL, "--view", "normals"], "image",
+                  "after_due_date"),
+    ],
     # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
     # writes is the pass's end: the pixel's state from the previous pass's textures,
     # one more sample, the new state to this pass's outputs. Graded by statistics, as
