@@ -339,11 +339,7 @@ Bvh buildBvh(const std::vector<vec3>& positions, const std::vector<uint32_t>& tr
 Bvh buildBvhOverBoxes(const std::vector<vec3>& boxMin, const std::vector<vec3>& boxMax,
                       const BvhOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    checkOptions(options);
-    if (halvingDepth(boxMin.size(), options.maxLeafSize) > options.maxDepth)
-        badInput(std::to_string(boxMin.size()) + " boxes do not fit in a tree of depth " +
-                 std::to_string(options.maxDepth) + " with leaves of " +
-                 std::to_string(options.maxLeafSize));
+    checkOptions(options);  // (any count fits: 2^64 boxes would, in 64 levels)
     std::vector<TriangleRecord> records(boxMin.size());
     for (size_t i = 0; i < records.size(); ++i) {
         records[i].triangle = uint32_t(i);

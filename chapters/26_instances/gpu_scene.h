@@ -29,8 +29,7 @@ struct GpuScene {
     std::vector<glm::vec4> texels;  // every image's texels, linear RGB; w unused
     Bvh bvh;  // over `triangles`, which are in its leaf order; nodes: BVH_NODES_BINDING
     float size = 1.0f;  // the diagonal of the scene's bounding box: how fast to fly
-    // Chapter 26: the world's own spheres and triangles come first; the objects' follow,
-    // and their trees and the instances' follow the world's tree in bvh.nodes.
+    // The world's own spheres and triangles first, the objects' after (their trees too).
     uint32_t worldSphereCount = 0, worldTriangleCount = 0;
     std::vector<gpu::Instance> instances;  // in the leaf order of the instances' tree
     uint32_t instanceRoot = 0;             // that tree's root in bvh.nodes

@@ -8,6 +8,7 @@
 
 #include <glm/gtc/matrix_access.hpp>
 
+#include "course/error.h"
 #include "gpu_scene.h"
 #include "obj_loader.h"
 
@@ -160,14 +161,23 @@ void addInstances(GpuScene& gpu, const course::SceneFile& scene, glm::vec3& low,
 }
 // --8<-- [end:add_instances]
 
-std::string describeInstances(const InstanceStats& stats) {
+void setInstanceParameters(const GpuScene& gpu, bool bruteForce, gpu::PathParameters& p) {
+    if (bruteForce && !gpu.instances.empty())
+        throw course::Failure(course::ExitCode::BadUsage,
+                              "--brute-force tests the world's own triangles one by one; "
+                              "instances are found through the trees only");
+    p.instanceCount = uint32_t(gpu.instances.size());
+    p.instanceRoot = gpu.instanceRoot;
+    p.worldSphereCount = gpu.worldSphereCount;
+    p.worldTriangleCount = gpu.worldTriangleCount;
+}
+
+std::string describeInstances(const InstanceStats& s) {
     char text[256];
-    std::snprintf(text, sizeof text,
-                  "instances: %zu of %zu objects (%zu triangles once, %zu placed), trees "
-                  "%zu + %zu nodes, %.1f MiB, top level built in %.2f ms",
-                  stats.instances, stats.objects, stats.objectTriangles,
-                  stats.placedTriangles, stats.objectNodes, stats.instanceNodes,
-                  double(stats.memoryBytes) / (1 << 20), stats.instanceTreeMilliseconds);
+    std::snprintf(text, sizeof text, "instances: %zu of %zu objects (%zu triangles once, %zu "
+                  "placed), trees %zu + %zu nodes, %.1f MiB, top level built in %.2f ms",
+                  s.instances, s.objects, s.objectTriangles, s.placedTriangles, s.objectNodes,
+                  s.instanceNodes, double(s.memoryBytes) / (1 << 20), s.instanceTreeMilliseconds);
     return text;
 }
 

@@ -12,14 +12,14 @@
 
 #include "course/scene_file.h"
 #include "course/stats.h"
+#include "shared.h"
 
 struct GpuScene;
 
 // What was built, for --verbose, --json and the book.
 struct InstanceStats {
     size_t objects = 0, instances = 0, objectNodes = 0, instanceNodes = 0;
-    size_t objectTriangles = 0;  // each object's once, however often it is placed
-    size_t placedTriangles = 0;  // what the instances show: as many written out
+    size_t objectTriangles = 0, placedTriangles = 0;  // kept once; shown by the instances
     double instanceTreeMilliseconds = 0.0;  // the top level: rebuilt when instances move
     size_t memoryBytes = 0;  // the objects' triangles and trees, the instances and theirs
 };
@@ -29,9 +29,11 @@ struct InstanceStats {
 void addInstances(GpuScene& gpu, const course::SceneFile& scene, glm::vec3& low,
                   glm::vec3& high);
 
-// One line for --verbose: "instances: 100 of 1 object (6320 triangles once, 632000
-// placed), trees 3147 + 199 nodes, 0.4 MiB, top level built in 0.1 ms".
+// One line for --verbose, and the stats as --json fields (objects, instances,
+// object_triangles, placed_triangles, instance_tree_ms, instance_bytes).
 std::string describeInstances(const InstanceStats& stats);
-// The stats as --json fields: objects, instances, object_triangles, placed_triangles,
-// instance_tree_ms, instance_bytes.
 void recordInstanceStats(const InstanceStats& stats, course::Stats& json);
+
+// What the walk reads of the instances (PathParameters). --brute-force tests the world's
+// own triangles one by one: with instances, it is exit code 2.
+void setInstanceParameters(const GpuScene& gpu, bool bruteForce, gpu::PathParameters& p);

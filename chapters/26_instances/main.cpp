@@ -66,10 +66,6 @@ int main(int argc, char** argv) {
         recordBvhStats(scene.bvh.stats, session.stats());
         course::logInfo(describeInstances(scene.instanceStats));
         recordInstanceStats(scene.instanceStats, session.stats());
-        if (bruteForce && !sceneFile.instances.empty())
-            throw course::Failure(course::ExitCode::BadUsage,
-                                  "--brute-force tests the world's own triangles one by one; "
-                                  "instances are found through the trees only");
         // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
         // other views trace at most two rays): with the tree, only spheres and quads
         // are looped over, and its own steps are a few hundred per ray.
@@ -125,10 +121,7 @@ int main(int argc, char** argv) {
                                                : VIEW_RADIANCE;
         parameters.occlusionDistance = 0.25f * scene.size;
         parameters.bruteForce = bruteForce;
-        parameters.instanceCount = uint32_t(scene.instances.size());
-        parameters.instanceRoot = scene.instanceRoot;
-        parameters.worldSphereCount = scene.worldSphereCount;
-        parameters.worldTriangleCount = scene.worldTriangleCount;
+        setInstanceParameters(scene, bruteForce, parameters);  // or exit code 2
         parameters.exposure = display.exposure;
         parameters.toneMap = toneMapCode(display.toneMap);
         course::GpuBuffer parameterBuffer(sizeof parameters);
