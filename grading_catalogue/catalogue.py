@@ -1199,6 +1199,9 @@ CHAPTER_26 = [
              "    return normalize(normal.x * placed.objectFromWorld0.xyz +\n"
              "                     normal.y * placed.objectFromWorld1.xyz +\n"
              "                     normal.z * placed.objectFromWorld2.xyz);\n"),)),
+    Variant(I, "the normal as a row vector times M", True, (
+        Edit("shaders/instances.glsl", NORMAL_BACK,
+             "    return normalize(normal * transpose(transposeOfM(placed)));\n"),)),
 
     Variant(I, "the direction normalised in object space", False, (
         Edit("shaders/instances.glsl", TO_OBJECT,
