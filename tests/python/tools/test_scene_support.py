@@ -56,7 +56,7 @@ def test_the_features_come_in_the_order_the_chapters_teach_them():
               for feature, (read, chapter) in support[name].items() if not read and chapter}
     assert firsts == {"metals": "chapter 15", "glass": "chapter 16", "lens": "chapter 17",
                       "textures": "chapter 17", "environment": "chapter 18",
-                      "media": "chapter 24"}
+                      "media": "chapter 24", "instances": "chapter 26"}
     numbered = [name for name in chapters.numbered(ROOT) if name in SCENE_READERS]
     for earlier, later in zip(numbered, numbered[1:]):  # a chapter reads what came before
         assert set(support[earlier]) and all(
