@@ -207,6 +207,17 @@ def refit(tree: Tree, lower, upper) -> Tree:
     return Tree(new_lower, new_upper, tree.first, tree.count, tree.right, tree.order)
 
 
+def twisted(triangles, amount) -> np.ndarray:
+    """The triangles (n, 3, 3) turned about the y axis by amount x height radians: a
+    mesh deforming smoothly, for refitting."""
+    corners = triangles.reshape(-1, 3)
+    angle = amount * corners[:, 1]
+    c, s = np.cos(angle), np.sin(angle)
+    turned = np.stack([c * corners[:, 0] + s * corners[:, 2], corners[:, 1],
+                       -s * corners[:, 0] + c * corners[:, 2]], axis=1)
+    return turned.reshape(triangles.shape)
+
+
 def box_entry(lower, upper, origins, directions, t_far):
     """Whether each ray enters the box [lower, upper] before t_far (slab test)."""
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -123,14 +123,6 @@ def draw_motion(figure):
     axes.grid(alpha=0.3)
 
 
-def twisted(triangles, amount):
-    corners = triangles.reshape(-1, 3)
-    angle = amount * corners[:, 1]
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([c * corners[:, 0] + s * corners[:, 2], corners[:, 1],
-                     -s * corners[:, 0] + c * corners[:, 2]], axis=1).reshape(triangles.shape)
-
-
 def draw_refit(figure):
     patches, control_points = teapot.load_patches()
     positions, _, indices = teapot.tessellate(patches, control_points, 4)
@@ -139,7 +131,7 @@ def draw_refit(figure):
     amounts = np.linspace(0.0, 3.0, 13)
     refitted, rebuilt = [], []
     for amount in amounts:
-        moved = twisted(mesh, amount)
+        moved = instances.twisted(mesh, amount)
         refitted.append(instances.sah_cost(instances.refit(tree, moved.min(axis=1),
                                                            moved.max(axis=1))))
         rebuilt.append(instances.sah_cost(instances.build_tree(moved.min(axis=1),

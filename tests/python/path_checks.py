@@ -12,7 +12,6 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import io
 import json
@@ -29,6 +28,7 @@ import pytest
 from conftest import (RUNNER, ROOT, chapter_name, copy_shaders, program_path, read_pfm,
                       regions_agreeing, run_chapter)
 
+from course_tools.editions import classroom
 from course_tools.grading import grader
 from course_tools import reference_cache
 
@@ -171,30 +171,12 @@ def scene_fingerprint(value) -> str:
     return repr(value)
 
 
-def translating_sources(module: str = "python_prototypes.mitsuba_reference") -> list[Path]:
-    """The files of `module` and of every python_prototypes module it imports, at any
-    depth (read from their import statements, those inside functions included), sorted:
+def translating_sources() -> list[Path]:
+    """mitsuba_reference.py and every python_prototypes module it imports, at any depth
+    (classroom.imported_modules, which finds a starter's modules the same way), sorted:
     what turns a scene into Mitsuba's."""
-    found: set[Path] = set()
-    waiting = [module]
-    while waiting:
-        parts = waiting.pop().split(".")
-        base = ROOT.joinpath(*parts)
-        path = base.with_suffix(".py") if base.with_suffix(".py").is_file() \
-            else base / "__init__.py"
-        if path in found or not path.is_file():
-            continue
-        found.add(path)
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Import):
-                waiting += [alias.name for alias in node.names
-                            if alias.name.startswith("python_prototypes")]
-            elif isinstance(node, ast.ImportFrom) and node.level == 0 and \
-                    (node.module or "").startswith("python_prototypes"):
-                waiting.append(node.module)
-                # `from package import module` names modules as well as functions
-                waiting += [f"{node.module}.{alias.name}" for alias in node.names]
-    return sorted(found)
+    module = ROOT / "python_prototypes" / "mitsuba_reference.py"
+    return sorted({module, *classroom.imported_modules(module, [ROOT])})
 
 
 def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,

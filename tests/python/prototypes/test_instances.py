@@ -246,23 +246,13 @@ def test_the_closed_form_for_a_still_or_missing_sphere():
 # Refitting a deforming mesh
 # ---------------------------------------------------------------------------------------
 
-def wobble(triangles, amount):
-    """A twist about the y axis that grows with height: the mesh deforms smoothly."""
-    corners = triangles.reshape(-1, 3)
-    angle = amount * corners[:, 1]
-    c, s = np.cos(angle), np.sin(angle)
-    turned = np.stack([c * corners[:, 0] + s * corners[:, 2], corners[:, 1],
-                       -s * corners[:, 0] + c * corners[:, 2]], axis=1)
-    return turned.reshape(triangles.shape)
-
-
 def test_a_refit_tree_holds_its_triangles_and_costs_more_as_they_wander(small_teapot):
     tree = instances.build_tree(small_teapot.min(axis=1), small_teapot.max(axis=1))
     same = instances.refit(tree, small_teapot.min(axis=1), small_teapot.max(axis=1))
     assert np.array_equal(same.lower, tree.lower) and np.array_equal(same.upper, tree.upper)
     costs = []
     for amount in (0.0, 0.3, 1.0, 3.0):
-        moved = wobble(small_teapot, amount)
+        moved = instances.twisted(small_teapot, amount)
         refitted = instances.refit(tree, moved.min(axis=1), moved.max(axis=1))
         for node in range(len(refitted.count)):  # every box holds what is below it
             if refitted.count[node] > 0:
