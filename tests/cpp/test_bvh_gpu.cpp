@@ -68,26 +68,66 @@ protected:
         // The test shader lives with the test data; its includes are the chapter's.
         return course::ShaderProgram::compute(BVH_TEST_SHADER_DIR,
                                               "../../tests/data/bvh/traversal_test.comp",
-                                              nodesFromStorage());
+                                              traversalAsTheTestCallsIt());
     }
 
     // The test shader gives the traversal a storage buffer of nodes at binding 0, which
     // chapters 13 to 19's traversal declares itself. From chapter 20 on the includer
     // reads the nodes (bvhNodeAt(), scene_memory.glsl, from a buffer texture or a
     // storage buffer): for those, the traversal is included with a storage buffer's
-    // bvhNodeAt() before it, the chapter's file unchanged.
-    static course::GeneratedFiles nodesFromStorage() {
+    // bvhNodeAt() before it, the chapter's file unchanged. Chapter 26's walk also goes
+    // down instances' trees and answers with a BvhHit: it is included with a world of
+    // no instances before it and the test shader's form of bvhNearestHit() after it,
+    // so these checks cover its walk of the world's own tree (the instances' part is
+    // test_26_instances.py's, against the same triangles written out).
+    static course::GeneratedFiles traversalAsTheTestCallsIt() {
         const std::string path = BVH_TEST_SHADER_DIR "/bvh_traversal.glsl";
         std::optional<std::string> traversal = course::readShaderFile(path);
         if (!traversal) ADD_FAILURE() << "cannot read " << path;
-        if (!traversal || traversal->find("bvhNodeAt(") == std::string::npos) return {};
-        return {{"bvh_traversal.glsl",
-                 "layout(std430, binding = BVH_NODES_BINDING) readonly buffer BvhNodes {\n"
-                 "    BvhNode bvhNodes[];\n"
-                 "};\n"
-                 "BvhNode bvhNodeAt(uint i) { return bvhNodes[i]; }\n" +
-                     *traversal}};
+        if (!traversal) return {};
+        if (traversal->find("bvhNodeAt(") != std::string::npos)
+            return {{"bvh_traversal.glsl",
+                     "layout(std430, binding = BVH_NODES_BINDING) readonly buffer BvhNodes {\n"
+                     "    BvhNode bvhNodes[];\n"
+                     "};\n"
+                     "BvhNode bvhNodeAt(uint i) { return bvhNodes[i]; }\n" +
+                         *traversal}};
+        if (traversal->find("struct BvhHit") != std::string::npos)
+            return {{"bvh_traversal.glsl", std::string(kNoInstances) + *traversal +
+                                               kNearestHitAsBefore}};
+        return {};
     }
+
+    // What chapter 26's traversal needs of instances.glsl and the path parameters, for a
+    // world without instances.
+    static constexpr const char* kNoInstances = R"(
+#define NO_SPHERE 0xFFFFFFFFu
+#define NO_INSTANCE 0xFFFFFFFFu
+struct Instance {
+    vec4 objectFromWorld0, objectFromWorld1, objectFromWorld2;
+    uint root, firstSphere, sphereCount, unused;
+};
+const uint instanceCount = 0u;
+const uint instanceRoot = 0u;
+Instance instanceAt(uint index) { return Instance(vec4(0.0), vec4(0.0), vec4(0.0), 0u, 0u, 0u, 0u); }
+Ray rayToObject(Ray ray, Instance placed) { return ray; }
+bool hitObjectSphere(Ray ray, uint sphere, float tMin, float tMax, out float t) {
+    t = tMax;
+    return false;
+}
+)";
+    // The earlier chapters' bvhNearestHit(), which the test shader calls.
+    static constexpr const char* kNearestHitAsBefore = R"(
+bool bvhNearestHit(Ray ray, float tMin, float tMax, out uint triangle, out float t,
+                   out vec2 uv) {
+    BvhHit hit;
+    bool found = bvhNearestHit(ray, tMin, tMax, hit);
+    triangle = hit.triangle;
+    t = hit.t;
+    uv = hit.uv;
+    return found;
+}
+)";
 
     // Runs the rays on the GPU, `repeats` times each; returns the results.
     std::vector<RayResult> runOnGpu(const Bvh& bvh, const TestMesh& leafOrder,
