@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from python_prototypes import scene_io
+from python_prototypes.scene_cast import sphere_t
 
 NODE_COST = 1.0      # the SAH's prices, as chapter 14's BvhOptions
 TRIANGLE_COST = 1.0
@@ -264,19 +265,6 @@ def triangle_t(corners, origins, directions):
         t = (q @ edge2) * inverse
     hit = (np.abs(determinant) > 1e-300) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-9)
     return np.where(hit, t, np.inf)
-
-
-def sphere_t(centre, radius, origins, directions):
-    """The nearest t > 0 where each ray (any direction length) meets the sphere, or inf."""
-    to_origin = origins - centre
-    a = np.einsum("ij,ij->i", directions, directions)
-    half_b = np.einsum("ij,ij->i", to_origin, directions)
-    c = np.einsum("ij,ij->i", to_origin, to_origin) - radius * radius
-    discriminant = half_b * half_b - a * c
-    root = np.sqrt(np.maximum(discriminant, 0.0))
-    near, far = (-half_b - root) / a, (-half_b + root) / a
-    t = np.where(near > 1e-9, near, np.where(far > 1e-9, far, np.inf))
-    return np.where(discriminant >= 0.0, t, np.inf)
 
 
 @dataclass

@@ -75,6 +75,7 @@ import numpy as np
 from python_prototypes import camera_rays
 from python_prototypes import obj_io
 from python_prototypes import scene_io
+from python_prototypes.scene_cast import sphere_t
 
 VARIANTS = ("scalar_rgb", "llvm_ad_rgb")
 # Debian bookworm's LLVM (apt-get install libllvm19); Dr.Jit's llvm_* variants need it
@@ -343,18 +344,6 @@ def quad_distances(origin, directions, quad):
     return np.where(hit, t, np.inf)
 
 
-def sphere_distances(origin, directions, center, radius):
-    """Nearest positive distance to the sphere, inf where it misses."""
-    to_origin = origin - np.asarray(center, dtype=np.float64)
-    half_b = directions @ to_origin
-    c = to_origin @ to_origin - radius * radius
-    discriminant = half_b * half_b - c
-    root = np.sqrt(np.maximum(discriminant, 0.0))
-    near, far = -half_b - root, -half_b + root
-    t = np.where(near > 1e-9, near, far)
-    return np.where((discriminant >= 0) & (t > 1e-9), t, np.inf)
-
-
 def rays_into_box(origin, directions, low, high) -> np.ndarray:
     """Which rays (from one origin) meet the box [low, high] ahead of it: the slab test,
     a little widened so that no ray grazing a face is lost."""
@@ -432,14 +421,8 @@ def instance_distances(scene: scene_io.Scene, instance: scene_io.Instance, eye,
     local_eye = object_from_world[:3, :3] @ eye + object_from_world[:3, 3]
     local_directions = directions @ object_from_world[:3, :3].T
     for sphere in scene_object.spheres:
-        to_origin = local_eye - np.asarray(sphere.center, dtype=np.float64)
-        a = np.einsum("...i,...i", local_directions, local_directions)
-        half_b = local_directions @ to_origin
-        c = to_origin @ to_origin - sphere.radius ** 2
-        root = np.sqrt(np.maximum(half_b * half_b - a * c, 0.0))
-        near, far = (-half_b - root) / a, (-half_b + root) / a
-        t = np.where(near > 1e-9, near, far)
-        best = np.minimum(best, np.where((half_b * half_b >= a * c) & (t > 1e-9), t, np.inf))
+        best = np.minimum(best, sphere_t(sphere.center, sphere.radius, local_eye,
+                                         local_directions))
     return best
 
 
@@ -472,7 +455,7 @@ def primary_ids(scene: scene_io.Scene, width: int, height: int, subsamples: int 
         if kind == "quad":
             t = quad_distances(eye, directions, shape)
         elif kind == "sphere":
-            t = sphere_distances(eye, directions, shape.center, shape.radius)
+            t = sphere_t(shape.center, shape.radius, eye, directions)
         elif kind == "triangle":
             t = triangle_distances(eye, directions, [[shape.p0, shape.p1, shape.p2]])
         else:

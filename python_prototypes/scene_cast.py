@@ -33,14 +33,17 @@ class Hits:
 
 
 def sphere_t(center, radius, origins, directions):
-    """The nearest t > 0 where each unit-direction ray meets the sphere; inf if none."""
+    """The nearest t > 0 where each ray meets the sphere; inf if none. A direction may
+    have any length: a ray carried into an instance's object space keeps the length its
+    placement gives it, so that t stays the world's distance (chapter 26)."""
     to_origin = origins - np.asarray(center, dtype=np.float64)
+    a = np.einsum("...i,...i", directions, directions)
     half_b = np.einsum("...i,...i", to_origin, directions)
     c = np.einsum("...i,...i", to_origin, to_origin) - radius * radius
-    discriminant = half_b * half_b - c
+    discriminant = half_b * half_b - a * c
     root = np.sqrt(np.maximum(discriminant, 0.0))
-    near, far = -half_b - root, -half_b + root
-    t = np.where(near > 0.0, near, np.where(far > 0.0, far, np.inf))
+    near, far = (-half_b - root) / a, (-half_b + root) / a
+    t = np.where(near > 1e-9, near, np.where(far > 1e-9, far, np.inf))
     return np.where(discriminant >= 0.0, t, np.inf)
 
 

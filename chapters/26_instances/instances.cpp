@@ -15,10 +15,9 @@
 namespace {
 
 // --8<-- [start:append_tree]
-// A tree built on its own (nodes from 0, leaves from 0) appended to the node array:
-// its children's node indices move past the nodes already there, its leaves' first
-// primitive past `firstLeafItem`; `leafMark` marks the instances' leaves. Returns where
-// its root went.
+// A tree built on its own (nodes and leaves from 0) appended to the node array: its
+// children's node indices move past the nodes already there, its leaves' first item past
+// `firstLeafItem`; `leafMark` marks the instances' leaves. Returns where its root went.
 uint32_t appendTree(std::vector<gpu::BvhNode>& nodes, const Bvh& tree, uint32_t firstLeafItem,
                     uint32_t leafMark) {
     const uint32_t root = uint32_t(nodes.size());

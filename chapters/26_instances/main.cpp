@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
         // other views trace at most two rays): with the tree, only spheres and quads
         // are looped over, and its own steps are a few hundred per ray.
         size_t looped = scene.worldSphereCount + scene.quads.size();
-        if (bruteForce) looped = scene.shapeCount();
+        if (bruteForce) looped += scene.worldTriangleCount;  // refused below with instances
         size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
         const char* wayOut = bruteForce ? "Without --brute-force, the tree renders it."
                                         : "Fewer spheres and quads, or a lower --depth, fit.";

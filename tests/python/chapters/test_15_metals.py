@@ -26,6 +26,7 @@ from path_checks import SIGMAS, assert_agrees_with_mitsuba, mean_and_error
 
 from python_prototypes import chi_square
 from python_prototypes import microfacet as mf
+from python_prototypes.scene_cast import sphere_t
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
@@ -241,7 +242,7 @@ def test_rough_metal_in_the_furnace_keeps_the_predicted_albedo(tmp_path, alpha):
     eye = np.asarray(scene.camera.eye)
     directions = mitsuba_reference.ray_directions(scene.camera, 48, 48)[mask]
     sphere = scene.spheres[0]
-    t = mitsuba_reference.sphere_distances(eye, directions, sphere.center, sphere.radius)
+    t = sphere_t(sphere.center, sphere.radius, eye, directions)
     normals = (eye + t[:, None] * directions - sphere.center) / sphere.radius
     angles = np.degrees(np.arccos(np.clip(-np.sum(normals * directions, axis=-1), 0, 1)))
     table_angles, table = albedo_table(alpha)

@@ -29,6 +29,7 @@ from path_checks import SIGMAS, mean_and_error
 
 from python_prototypes import chi_square
 from python_prototypes import microfacet as mf
+from python_prototypes.scene_cast import sphere_t
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")
 
@@ -232,8 +233,8 @@ def lamp_expected(scene, width, height, ior=1.5):
     eye = np.asarray(scene.camera.eye, dtype=np.float64)
     directions = mitsuba_reference.ray_directions(scene.camera, width, height)
     ball, lamp = scene.spheres
-    t = mitsuba_reference.sphere_distances(eye, directions.reshape(-1, 3), ball.center,
-                                           ball.radius).reshape(height, width)
+    t = sphere_t(ball.center, ball.radius, eye, directions.reshape(-1, 3)).reshape(height,
+                                                                              width)
     normals = (eye + t[..., None] * directions - ball.center) / ball.radius
     cos_i = np.clip(-np.sum(normals * directions, axis=-1), 0.0, 1.0)
     F, _, _, _ = mf.fresnel_dielectric(cos_i, ior)
