@@ -455,3 +455,72 @@ def test_a_programs_statistics_are_its_last_json_line():
     for nothing in ("", "course: it crashed\n", "[1, 2]\n"):
         with pytest.raises(ValueError, match="chapter 07 printed no JSON statistics"):
             last_json_line(nothing, "chapter 07")
+
+
+# ---------------------------------------------------------------- chapter 26's instances bench
+
+@pytest.fixture(scope="module")
+def tiny_instances_bench(tmp_path_factory):
+    """bench_instances with a field of 10 x 10 teapots at 16², twice over: once without
+    --update-book (on copies of the pages), once with."""
+    from course_tools.bench import instances as bench_instances
+    program = BIN / chapter_name("26")
+    if not program.exists():
+        pytest.skip(f"{program.name} is not built")
+    folder = tmp_path_factory.mktemp("instances")
+    pages = page_copies(bench_instances.PAGES, folder)
+    book_before = {n: page.read_text() for n, (page, _, _) in bench_instances.PAGES.items()}
+    before = {n: page.read_text() for n, (page, _, _) in pages.items()}
+    settings = bench_instances.Settings(size=16, repeat=2, grid=10)
+    report = bench_instances.bench(program, ROOT / "build" / "assets" / "meshes", settings,
+                                   folder / "scenes")
+    bench_instances.publish(report, update_book=False, pages=pages, out_folder=folder / "out")
+    unchanged = all(page.read_text() == before[n] for n, (page, _, _) in pages.items())
+    bench_instances.publish(report, update_book=True, pages=pages, out_folder=folder / "out")
+    return {"report": json.loads((folder / "out" / "instances.json").read_text()),
+            "scenes": folder / "scenes", "unchanged": unchanged,
+            "pages": {n: page.read_text() for n, (page, _, _) in pages.items()},
+            "book_unchanged": all(page.read_text() == book_before[n]
+                                  for n, (page, _, _) in bench_instances.PAGES.items())}
+
+
+def test_the_instances_bench_gives_medians_and_the_chapters_own_counts(tiny_instances_bench):
+    from python_prototypes import scene_io
+    report = tiny_instances_bench["report"]
+    assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
+    for row in report["rows"].values():
+        for figure in ("rays_per_second", "instance_tree_ms"):
+            assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
+            assert row[figure]["min"] <= row[figure]["median"] <= row[figure]["max"]
+    field = report["rows"]["field: primary"]
+    # The field as the Python reader reads it: 100 placements of one 6 320-triangle object.
+    scene = scene_io.load_scene(tiny_instances_bench["scenes"] / "field.scene")
+    assert len(scene.instances) == field["instances"] == 100
+    assert field["triangles"] == 6320 and field["placed_triangles"] == 100 * 6320
+    one = report["rows"]["one_instance: primary"]
+    assert one["instances"] == 1 and report["rows"]["written_out: primary"]["instances"] == 0
+    # Memory: the teapot once, and the instances and their tree beside it.
+    assert one["instance_bytes"] < field["instance_bytes"] < one["instance_bytes"] + 100 * 256
+
+
+def test_the_instances_bench_writes_both_pages_only_when_asked(tiny_instances_bench):
+    from course_tools.bench import instances as bench_instances
+    assert tiny_instances_bench["unchanged"] and tiny_instances_bench["book_unchanged"]
+    table = bench_instances.page_table(tiny_instances_bench["report"])
+    for page in tiny_instances_bench["pages"].values():
+        assert table in page and "Each figure is the median of 2 runs" in page
+        assert "| 100 teapots | 100 | 632,000 | 6,320 |" in page
+
+
+def test_the_instances_bench_says_which_target_it_missed(tiny_instances_bench):
+    from course_tools.bench import instances as bench_instances
+    report = json.loads(json.dumps(tiny_instances_bench["report"]))
+    met = dict(bench_instances.checks(report))
+    assert len(met) == 3
+    # Slow the field's camera rays to a third of one teapot's, and double its memory.
+    field, one = report["rows"]["field: primary"], report["rows"]["one_instance: primary"]
+    field["rays_per_second"]["median"] = one["rays_per_second"]["median"] / 3
+    field["instance_bytes"] = 3 * (one["instance_bytes"] + 99 * 64)
+    missed = [text for text, ok in bench_instances.checks(report) if not ok]
+    assert any(text.startswith("primary rays through the field: 0.33x") for text in missed)
+    assert any(text.startswith("memory of the field: 3.00x") for text in missed)

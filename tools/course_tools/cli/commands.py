@@ -114,6 +114,12 @@ def cmd_bench(args):
         settings = bench_wavefront.Settings(args.speed_spp, args.depth, args.repeat)
         status |= bench_wavefront.main({name[:2]: binary(name) for name in kernels}, settings,
                                        update_book=args.update_book)
+    if args.which in ("all", "instances"):
+        from course_tools.bench import instances as bench_instances
+        build([find_chapter("26")])
+        settings = bench_instances.Settings(repeat=args.repeat)
+        status |= bench_instances.main(binary(find_chapter("26")), BUILD / "assets" / "meshes",
+                                       settings, update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         from course_tools.bench import grading as bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \

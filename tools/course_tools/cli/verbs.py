@@ -91,22 +91,24 @@ def book_options(parser: argparse.ArgumentParser):
 
 def bench_options(parser: argparse.ArgumentParser):
     parser.add_argument(
-        "which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "wavefront", "grading"],
-        default="all", help="which benchmark (default: mitsuba, bvh, speed and wavefront; "
+        "which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "wavefront", "instances",
+                            "grading"],
+        default="all", help="which benchmark (default: mitsuba, bvh, speed, wavefront and "
+        "instances; "
         "mitsuba: the Cornell box through chapter 12 and the newest chapter, the teapot "
         "through the newest chapter with a BVH, ours and Mitsuba's runs taking turns; "
         "speed: chapters 19 to 21 (specialisation, memory paths, the tree's price) against "
         "chapter 18; wavefront: chapter 22's megakernel, one sample a dispatch and "
-        "regenerating, against chapter 23's wavefront; grading: one submission of each "
-        "chapter on one core)")
+        "regenerating, against chapter 23's wavefront; instances: chapter 26's field of "
+        "10 000 teapots against one; grading: one submission of each chapter on one core)")
     parser.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each figure (gradings per chapter): the median and "
                         "the range are reported (3)")
     parser.add_argument("--update-book", action="store_true",
                         help="write the tables (and the BVH figure) into the book's pages, "
-                        "book/docs/benchmarks.md and instructors.md; only from a quiet "
-                        "machine")
+                        "book/docs/benchmarks.md, the chapters' and instructors.md; only "
+                        "from a quiet machine")
     parser.add_argument("--size", type=int, default=256,
                         help="mitsuba: image side (default 256)")
     parser.add_argument("--spp", type=int, default=128,
