@@ -90,7 +90,8 @@ PackedObject addObject(GpuScene& gpu, const course::SceneFile& scene,
         high = glm::max(high, glm::vec3(gpu.positions[i]));
     stats.objectTriangles += gpu.triangles.size() - first;
     packed.firstTriangle = first, packed.triangleCount = gpu.triangles.size() - first;
-    packed.firstPosition = firstPosition, packed.positionCount = gpu.positions.size() - firstPosition;
+    packed.firstPosition = firstPosition;
+    packed.positionCount = gpu.positions.size() - firstPosition;
     packed.firstNormal = firstNormal, packed.normalCount = gpu.normals.size() - firstNormal;
     where.root = addObjectTree(gpu, first, stats);
     packed.firstNode = where.root, packed.nodeCount = gpu.bvh.nodes.size() - where.root;
@@ -146,7 +147,8 @@ std::pair<glm::vec3, glm::vec3> placeInstances(GpuScene& gpu, const course::Scen
         placed.objectFromWorld0 = glm::row(objectFromWorld, 0);
         placed.objectFromWorld1 = glm::row(objectFromWorld, 1);
         placed.objectFromWorld2 = glm::row(objectFromWorld, 2);
-        if (whole) placed.objectMotion = glm::vec4(glm::mat3(objectFromWorld) * instance.motion, 0);
+        if (whole)
+            placed.objectMotion = glm::vec4(glm::mat3(objectFromWorld) * instance.motion, 0.0f);
         table.push_back(placed);
         glm::vec3 placedLow(INFINITY), placedHigh(-INFINITY);
         for (int corner = 0; corner < 8; ++corner) {

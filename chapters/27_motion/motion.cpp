@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <vector>
 
 #include "course/error.h"
 
@@ -10,6 +11,24 @@ namespace {
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
         .count();
+}
+
+// The GPU's copy of `items` written over (its size stays the same).
+template <typename T>
+void writeOver(course::GpuBuffer& buffer, const std::vector<T>& items) {
+    if (!items.empty()) buffer.write(items.data(), items.size() * sizeof(T));
+}
+
+// The SAH cost of a tree built afresh over the object's triangles as they are now.
+double rebuiltSahCost(const GpuScene& gpu, const PackedObject& object) {
+    std::vector<glm::vec3> corners;
+    const size_t end = object.firstTriangle + object.triangleCount;
+    for (size_t t = object.firstTriangle; t < end; ++t)
+        for (int k = 0; k < 3; ++k)
+            corners.emplace_back(gpu.positions[gpu.triangles[t].corners[k]]);
+    std::vector<uint32_t> indices(corners.size());
+    for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+    return buildBvh(corners, indices).stats.sahCost;
 }
 
 }  // namespace
@@ -43,7 +62,8 @@ Motion::Motion(GpuScene& gpu, const course::SceneFile& scene, SceneBuffers& buff
 }
 
 float Motion::firstInstant() const {
-    if (options_.instant != kWholeShutter || animates()) return std::max(options_.instant, 0.0f);
+    if (options_.instant != kWholeShutter || animates())
+        return std::max(options_.instant, 0.0f);
     const course::SceneCamera& camera = scene_.camera;
     return camera.shutterClose > camera.shutterOpen ? kWholeShutter : 0.0f;
 }
@@ -66,25 +86,16 @@ void Motion::show(float instant) {
             refitMs_ += millisecondsSince(start);
             refitCost_ += treeSahCost(gpu_.bvh.nodes, object.firstNode, object.nodeCount);
             start = std::chrono::steady_clock::now();
-            std::vector<glm::vec3> corners;
-            for (size_t t = object.firstTriangle; t < object.firstTriangle + object.triangleCount;
-                 ++t)
-                for (int k = 0; k < 3; ++k)
-                    corners.emplace_back(gpu_.positions[gpu_.triangles[t].corners[k]]);
-            std::vector<uint32_t> indices(corners.size());
-            for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
-            rebuiltCost_ += buildBvh(corners, indices).stats.sahCost;
+            rebuiltCost_ += rebuiltSahCost(gpu_, object);
             rebuildMs_ += millisecondsSince(start);
         }
-        buffers_.positions.write(gpu_.positions.data(), gpu_.positions.size() * sizeof(glm::vec4));
-        buffers_.normals.write(gpu_.normals.data(), gpu_.normals.size() * sizeof(glm::vec4));
+        writeOver(buffers_.positions, gpu_.positions);
+        writeOver(buffers_.normals, gpu_.normals);
     }
     // 2. The instances at the instant, and the top level over them built again.
     placeInstances(gpu_, scene_, instant);
-    buffers_.bvhNodes.write(gpu_.bvh.nodes.data(), gpu_.bvh.nodes.size() * sizeof(gpu::BvhNode));
-    if (!gpu_.instances.empty())
-        buffers_.instances.write(gpu_.instances.data(),
-                                 gpu_.instances.size() * sizeof(gpu::Instance));
+    writeOver(buffers_.bvhNodes, gpu_.bvh.nodes);
+    writeOver(buffers_.instances, gpu_.instances);
     shown_ = instant;
     ++framesShown_;
 }

@@ -27,13 +27,13 @@ void twistObjects(GpuScene& gpu, const RestPose& rest, float degrees) {
             const glm::vec3 to(c * from.x + s * from.z, from.y, -s * from.x + c * from.z);
             return glm::vec4(isPoint ? to + middle : to, v.w);
         };
-        for (size_t i = object.firstPosition; i < object.firstPosition + object.positionCount; ++i)
+        const size_t end = object.firstPosition + object.positionCount;
+        for (size_t i = object.firstPosition; i < end; ++i)
             gpu.positions[i] = turn(rest.positions[i], rest.positions[i].y, true);
-        // A normal turns as the corners that share it: by the height of the first corner
-        // of a triangle that uses it.
-        for (size_t t = object.firstTriangle; t < object.firstTriangle + object.triangleCount;
-             ++t) {
-            const gpu::Triangle& triangle = gpu.triangles[t];
+        // A normal turns with a corner that uses it (a smooth mesh's normals are each a
+        // corner's).
+        for (size_t t = 0; t < object.triangleCount; ++t) {
+            const gpu::Triangle& triangle = gpu.triangles[object.firstTriangle + t];
             for (int k = 0; k < 3; ++k) {
                 const uint32_t n = triangle.cornerNormals[k];
                 gpu.normals[n] = turn(rest.normals[n], rest.positions[triangle.corners[k]].y,
@@ -76,7 +76,8 @@ double treeSahCost(const std::vector<gpu::BvhNode>& nodes, size_t firstNode, siz
     double sum = 0.0;
     for (size_t i = firstNode; i < firstNode + nodeCount; ++i) {
         const gpu::BvhNode& node = nodes[i];
-        sum += halfArea(glm::min(node.leftMin, node.rightMin), glm::max(node.leftMax, node.rightMax));
+        sum += halfArea(glm::min(node.leftMin, node.rightMin),
+                        glm::max(node.leftMax, node.rightMax));
         sum += node.leftCount * halfArea(node.leftMin, node.leftMax);
         sum += node.rightCount * halfArea(node.rightMin, node.rightMax);
     }
