@@ -260,10 +260,12 @@ void main() {
     // and the image holds the running mean of the samples.
     RandomState random = randomStates[index];
     uint rays = sampleIndex == 0u ? 0u : rayCounts[index];
+    // --8<-- [start:instant]
     // BEGIN SOLUTION one instant of the shutter for the whole path, a new one each sample
     pathTime = random01(random);
     // STUB: // every path at the shutter's opening
     // END SOLUTION
+    // --8<-- [end:instant]
     vec3 radiance;
     if (view == VIEW_RADIANCE) {
         // A random point of the pixel (anti-aliasing) and of the lens (depth of field).

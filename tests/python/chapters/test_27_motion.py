@@ -233,19 +233,12 @@ def test_the_window_plays_the_instants_and_builds_the_top_level_each_frame(tmp_p
 # --- Refitting the twisting teapot ------------------------------------------------------------
 
 def twisted_obj(path, degrees: float):
-    """The teapot twisted as the chapter twists it (refit.cpp's twistObjects), written
-    out: about the upright line through the middle of its box, by `degrees` at its top,
-    each normal turned with its corner (the teapot's OBJ has one normal a corner)."""
+    """The teapot twisted as the chapter twists it (instances.twisted_about_middle),
+    written out (its OBJ has one normal a corner, which turns with it)."""
     positions, normals, corners, corner_normals = obj_io.read_obj(TEAPOT)
     assert np.array_equal(corners, corner_normals)
-    low, high = positions.min(axis=0), positions.max(axis=0)
-    middle = (low + high) / 2
-    angle = np.radians(degrees) * (positions[:, 1] - low[1]) / (high[1] - low[1])
-    c, s = np.cos(angle), np.sin(angle)
-
-    def turn(v):
-        return np.stack([c * v[:, 0] + s * v[:, 2], v[:, 1], -s * v[:, 0] + c * v[:, 2]], 1)
-    teapot.write_obj(path, turn(positions - middle) + middle, turn(normals), corners)
+    teapot.write_obj(path, *instances.twisted_about_middle(positions, normals, degrees),
+                     corners)
 
 
 def test_the_refitted_teapot_draws_the_twisted_triangles(tmp_path):
