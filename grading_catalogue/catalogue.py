@@ -1274,8 +1274,8 @@ CHAPTER_27 = [
         section="Each path at its own instant"),
     Variant(I, "instants beyond the shutter's closing", False, (
         Edit("shaders/path.comp", INSTANT, "    pathTime = 2.0 * random01(random);\n"),),
-        explanation=("An instant is a fraction of the interval, from 0 to 1: beyond it "
-                     "the instances go twice as far, out of their swept boxes."),
+        explanation=("An instant is a share of the interval, 0 to 1: beyond it instances "
+                     "leave their swept boxes."),
         section="Each path at its own instant"),
     # The host's parts: the motion in the world's units handed to the object's space,
     # and the top level's boxes not swept.
@@ -1284,16 +1284,16 @@ CHAPTER_27 = [
              "            placed.objectMotion = glm::vec4(glm::mat3(objectFromWorld) * "
              "instance.motion, 0.0f);\n",
              "            placed.objectMotion = glm::vec4(instance.motion, 0.0f);\n"),),
-        explanation=("The walk moves the object's space: the motion must be mapped into it "
-                     "by M, or a scaled instance moves by the wrong distance."),
+        explanation=("The motion must be mapped into the object's space by M, or a scaled "
+                     "instance moves too far."),
         section="Moving in the object's space"),
     Variant(I, "the top level's boxes not swept", False, (
         Edit("chapters/instances.cpp",
              "            placedLow = glm::min(placedLow, placedLow + instance.motion);\n"
              "            placedHigh = glm::max(placedHigh, placedHigh + instance.motion);\n",
              ""),),
-        explanation=("Over the shutter a moving instance is anywhere along its way: its "
-                     "box in the top level must hold all of it, or rays miss it there."),
+        explanation=("A moving instance's box must hold its whole way over the shutter, or "
+                     "rays miss it."),
         section="Boxes swept over the interval"),
 ]
 
