@@ -264,6 +264,26 @@ def test_the_staging_copy_is_named_by_its_files_contents(tmp_path):
     assert places[0] == places[1]
 
 
+def test_the_libraries_are_staged_whatever_their_size(tmp_path, monkeypatch):
+    """A file bigger than STAGED_FILE_LIMIT in a folder the flags name (the benchmark's
+    teapot) is left out; a library the link needs is staged however big it grows (the
+    common layer's, with GCC 14's debug information, passed 32 MiB)."""
+    monkeypatch.setattr(grader, "STAGED_FILE_LIMIT", 64)
+    root, build = tmp_path / "tree", tmp_path / "tree" / "build"
+    (build / "assets").mkdir(parents=True)
+    (build / "common").mkdir()
+    (build / "assets" / "teapot.obj").write_bytes(b"v 0 0 0\n" * 100)
+    (build / "assets" / "small.obj").write_bytes(b"v 0 0 0\n")
+    library = build / "common" / "libcourse_common.a"
+    library.write_bytes(b"!<arch>\n" + b"x" * 1000)
+    arguments = [f'-DCOURSE_GENERATED_ASSET_DIR="{build / "assets"}"']
+    staging = grader.Staging(root, build, "04_spheres", arguments, [library],
+                             tmp_path / "base")
+    assert staging.staged(library).read_bytes() == library.read_bytes()
+    assert staging.staged(build / "assets" / "small.obj").exists()
+    assert not staging.staged(build / "assets" / "teapot.obj").exists()
+
+
 def test_a_link_to_the_reference_instead_of_an_image(starter, tmp_path):
     """Leaves --out as a link to the reference: the grader must not follow it."""
     reference = grader.reference_image(ROOT, BUILD, CHAPTER, grader.SPECS["04"][0])

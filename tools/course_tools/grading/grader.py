@@ -128,7 +128,9 @@ class Staging:
                     continue
                 if kind == "headers" and file.suffix not in HEADER_SUFFIXES:
                     continue
-                if file.stat().st_size > STAGED_FILE_LIMIT:
+                # Big data files stay out; the libraries, which linking needs, never do
+                # (with debug information they pass 32 MiB on some compilers).
+                if file.stat().st_size > STAGED_FILE_LIMIT and path not in libraries:
                     continue
                 files.append((file, self.relative(file)))
         # Named by the files' contents, not their times: a clean clone of the same tree
