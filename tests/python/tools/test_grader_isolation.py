@@ -484,3 +484,15 @@ def test_grading_needs_none_of_the_solutions_sources(solution, tmp_path, monkeyp
     with pytest.raises(SystemExit) as refused:
         course.cmd_grade(argparse.Namespace(**{**arguments, "keep_runs": True}))
     assert refused.value.code == 2
+
+
+def test_signatures_kept_from_gradings_that_never_ran_are_made_again():
+    """An earlier grader kept a chapter's mistake signatures even when no variant could
+    be built (a library left out of the staging copy): every test's measurement empty.
+    Such kept signatures are not used; whole ones are."""
+    whole = {"solution": {"tests": {"one_sphere": [0.1]}},
+             "mistakes": [{"name": "m", "tests": {"one_sphere": [0.4]}}]}
+    never_ran = {"solution": {"tests": {}}, "mistakes": [{"name": "m", "tests": {}}]}
+    assert grader.signatures_measured(json.dumps(whole).encode())
+    assert not grader.signatures_measured(json.dumps(never_ran).encode())
+    assert not grader.signatures_measured(b"torn")

@@ -888,7 +888,7 @@ def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
     name = reference_cache.key("mistake signatures", reference_maker(root, build, chapter),
                                catalogue) + ".json"
     stored = reference_cache.fetch(name) if reference_cache.folder() is not None else None
-    if stored is not None:
+    if stored is not None and signatures_measured(stored):
         write_atomically(path, stored)
         return path
     prepare_references(root, build, chapter)
@@ -904,8 +904,13 @@ def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
             folder = Path(scratch) / f"{variant.slug}-{seed}"
             submission = grading_catalogue.apply(variant, root, folder / "submission")
             measured = {}
-            grade(root, build, chapter, submission, folder / "graded", keep_runs=True,
-                  first_seed=seed, measured=measured, diagnose=False)
+            results = grade(root, build, chapter, submission, folder / "graded",
+                            keep_runs=True, first_seed=seed, measured=measured,
+                            diagnose=False)
+            if not measured:  # it did not build or run: nothing to make a signature of
+                raise RuntimeError(f"chapter {chapter}: the catalogued {variant.name!r} "
+                                   "could not be graded, so no signatures are made:\n"
+                                   + results["output"][-2000:])
             return variant.name, measured
 
         right = grading_catalogue.solution(chapter)
@@ -937,6 +942,17 @@ def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
         reference_cache.store(name, payload)
     write_atomically(path, payload)
     return path
+
+
+def signatures_measured(payload: bytes) -> bool:
+    """Whether kept signatures hold a measurement of every test of the solution and of
+    each mistake: signatures kept from gradings that never ran (an earlier grader kept
+    them when a submission could not link) are made again."""
+    try:
+        data = json.loads(payload)
+        return bool(data["solution"]["tests"]) and all(m["tests"] for m in data["mistakes"])
+    except (ValueError, KeyError, TypeError):
+        return False
 
 
 def failed_results(chapter: str, reason: str) -> dict:
