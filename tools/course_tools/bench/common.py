@@ -10,9 +10,12 @@ import platform
 import re
 import resource
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
+
+from course_tools.program_output import last_json_line
 
 # Above this 1-minute load average per core, other work is taking CPU time from the
 # bench and its figures say more about the neighbours than about the renderers.
@@ -123,6 +126,17 @@ def machine_words(machine: dict) -> str:
             machine.get("mitsuba_embree"), "")
         words += f"; Mitsuba's LLVM backend {machine['mitsuba_lanes']} lanes{embree}"
     return words
+
+
+def program_stats(command: list, bench: str, env: dict | None = None) -> dict:
+    """One run of a chapter's program: its --json statistics (its last JSON line). A run
+    that fails stops the bench with the program's own message."""
+    command = [str(word) for word in command]
+    result = subprocess.run(command, capture_output=True, text=True, env=env)
+    if result.returncode != 0:
+        raise SystemExit(f"bench {bench}: {' '.join(command)} failed "
+                         f"({result.returncode}):\n{result.stderr}")
+    return last_json_line(result.stdout, " ".join(command))
 
 
 def today() -> str:

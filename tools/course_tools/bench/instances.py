@@ -24,13 +24,11 @@ book/docs/benchmarks.md and chapter 26's page only with --update-book."""
 from __future__ import annotations
 
 import json
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
 from course_tools.bench import common as bench_common
 from course_tools.paths import ROOT
-from course_tools.program_output import last_json_line
 
 CHAPTERS = ROOT / "book" / "docs" / "chapters"
 PAGES = {"benchmarks": (ROOT / "book" / "docs" / "benchmarks.md",
@@ -106,11 +104,7 @@ def run(binary: Path, scene: Path, rays: str, size: int, spp: int, folder: Path)
     command = [str(binary), "--headless", "--scene", str(scene), "--width", str(size),
                "--height", str(size), "--spp", str(spp), "--view", VIEWS[rays], "--out",
                str(folder / "out.pfm"), "--json"]
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        raise SystemExit(f"bench instances: {' '.join(command)} failed "
-                         f"({result.returncode}):\n{result.stderr}")
-    return last_json_line(result.stdout, " ".join(command))
+    return bench_common.program_stats(command, "instances")
 
 
 def bench(binary: Path, meshes: Path, settings: Settings, folder: Path = OUT / "instances"

@@ -28,7 +28,6 @@ its page only with --update-book."""
 from __future__ import annotations
 
 import os
-import subprocess
 import tempfile
 import time
 from dataclasses import dataclass
@@ -37,7 +36,6 @@ from pathlib import Path
 from course_tools.bench import common as bench_common
 
 from course_tools.paths import ROOT
-from course_tools.program_output import last_json_line
 
 CHAPTERS = ROOT / "book" / "docs" / "chapters"
 # The block of each page that the bench writes: page, start marker, end marker.
@@ -108,14 +106,8 @@ def run(binaries: dict, row: Row, size: int, spp: int, depth: int,
                    "--depth", str(depth), "--out", str(Path(folder) / "out.pfm"),
                    "--json", *row.options]
         start = time.perf_counter()
-        result = subprocess.run(command, capture_output=True, text=True,
-                                env={**os.environ, **(env or {})})
-        seconds = time.perf_counter() - start
-    if result.returncode != 0:
-        raise SystemExit(f"bench speed: {' '.join(command)} failed "
-                         f"({result.returncode}):\n{result.stderr}")
-    stats = last_json_line(result.stdout, " ".join(command))
-    stats["process_seconds"] = seconds
+        stats = bench_common.program_stats(command, "speed", {**os.environ, **(env or {})})
+        stats["process_seconds"] = time.perf_counter() - start
     return stats
 
 
