@@ -15,13 +15,11 @@ and chapter 27's page only with --update-book."""
 from __future__ import annotations
 
 import json
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
 from course_tools.bench import common as bench_common
 from course_tools.paths import ROOT
-from course_tools.program_output import last_json_line
 
 CHAPTERS = ROOT / "book" / "docs" / "chapters"
 PAGES = {"benchmarks": (ROOT / "book" / "docs" / "benchmarks.md",
@@ -60,14 +58,9 @@ def fresh_scene(folder: Path, meshes: Path, degrees: float) -> Path:
 
 def run(binary: Path, arguments: list, rays: str, size: int, spp: int,
         folder: Path) -> dict:
-    command = [str(binary), "--headless", *map(str, arguments), "--width", str(size),
-               "--height", str(size), "--spp", str(spp), "--view", VIEWS[rays], "--out",
-               str(folder / "out.pfm"), "--json"]
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        raise SystemExit(f"bench refit: {' '.join(command)} failed ({result.returncode}):\n"
-                         f"{result.stderr}")
-    return last_json_line(result.stdout, " ".join(command))
+    return bench_common.program_stats(
+        [binary, "--headless", *arguments, "--width", size, "--height", size, "--spp", spp,
+         "--view", VIEWS[rays], "--out", folder / "out.pfm", "--json"], "refit")
 
 
 def bench(binary: Path, meshes: Path, settings: Settings, folder: Path = OUT / "refit"
