@@ -19,6 +19,7 @@ from course_tools.program_output import last_json_line
 
 # Above this 1-minute load average per core, other work is taking CPU time from the
 # bench and its figures say more about the neighbours than about the renderers.
+START_SAMPLE_SECONDS = 2.0  # how long others' use is measured before a bench
 QUIET_LOAD_PER_CORE = 0.3
 
 
@@ -170,6 +171,10 @@ class QuietWatch:
     def __init__(self):
         self.cores = os.cpu_count() or 1
         self.load_start = os.getloadavg()[0]
+        # The load average lags a minute behind: it still counts work that has just
+        # finished (the previous bench of the same ./course bench, a build). What runs
+        # now is what others take of the CPU over a moment before the bench begins.
+        self.others_at_start = others_cores_over(START_SAMPLE_SECONDS)
         self.wall_start = time.monotonic()
         self.busy_start = busy_cpu_seconds()
         self.own_start = own_cpu_seconds()
@@ -177,8 +182,9 @@ class QuietWatch:
 
     def report_so_far(self) -> dict:
         return {"cores": self.cores, "load_start": self.load_start,
+                "others_at_start": self.others_at_start,
                 "threshold": QUIET_LOAD_PER_CORE * self.cores,
-                "quiet": is_quiet(self.load_start, None, self.cores)}
+                "quiet": is_quiet(self.load_start, None, self.cores, self.others_at_start)}
 
     def finish(self) -> dict:
         wall = time.monotonic() - self.wall_start
@@ -189,21 +195,39 @@ class QuietWatch:
             others = max(other_seconds, 0.0) / wall  # cores' worth, on average
         report = {**self.report_so_far(), "load_end": os.getloadavg()[0],
                   "other_processes_cores": others,
-                  "quiet": is_quiet(self.load_start, others, self.cores)}
+                  "quiet": is_quiet(self.load_start, others, self.cores,
+                                    self.others_at_start)}
         warn_if_busy(report)
         return report
 
 
-def is_quiet(load_start: float, other_processes_cores: float | None, cores: int) -> bool:
-    """Quiet: the load at the start, and other processes' use of the CPU during the
-    bench (in cores), both at most QUIET_LOAD_PER_CORE per core."""
+def is_quiet(load_start: float, other_processes_cores: float | None, cores: int,
+             others_at_start: float | None = None) -> bool:
+    """Quiet: at the start, and other processes' use of the CPU during the bench (in
+    cores), both at most QUIET_LOAD_PER_CORE per core. The start is judged by others'
+    use measured just before it where /proc/stat gives it, else by the load average."""
     limit = QUIET_LOAD_PER_CORE * cores
-    return load_start <= limit and (other_processes_cores or 0.0) <= limit
+    start = load_start if others_at_start is None else others_at_start
+    return start <= limit and (other_processes_cores or 0.0) <= limit
+
+
+def others_cores_over(seconds: float) -> float | None:
+    """Cores' worth of CPU that other processes used over the next `seconds`, or None
+    where /proc/stat does not say."""
+    busy, own = busy_cpu_seconds(), own_cpu_seconds()
+    if busy is None:
+        return None
+    time.sleep(seconds)
+    other_seconds = (busy_cpu_seconds() - busy) - (own_cpu_seconds() - own)
+    return max(other_seconds, 0.0) / seconds
 
 
 def quiet_words(quiet: dict) -> str:
     """One sentence for the report: the loads, and whether the figures can be trusted."""
     words = f"1-minute load average {quiet['load_start']:.2f} at the start"
+    if quiet.get("others_at_start") is not None:
+        words += (f" (other processes using {quiet['others_at_start']:.2f} cores "
+                  "just before)")
     if "load_end" in quiet:
         words += f", {quiet['load_end']:.2f} at the end (the bench's own renders included)"
     if quiet.get("other_processes_cores") is not None:
