@@ -187,6 +187,10 @@ def test_a_page_keeps_a_table_per_kind_of_cpu(tmp_path):
     block = page.read_text().split(start)[1].split(end)[0]
     assert bench_common.tables_by_kind(block) == [("Old AMD, AVX2", "AMD: 3.0x"),
                                                   ("Some Xeon, AVX-512", "Xeon: 2.5x")]
+    # A page waiting for its first quiet run says so; the first table takes its place.
+    page.write_text(f"{start}\nNo quiet run of the bench is recorded here yet.\n{end}\n")
+    bench_common.book_or_not(True, page, start, end, "Measured ... Xeon: 2.0x", intel)
+    assert "No quiet run" not in page.read_text()
 
 
 def test_the_grading_table_gives_medians_and_ranges():

@@ -301,11 +301,17 @@ def tables_by_kind(block: str) -> list[tuple[str | None, str]]:
     return tables
 
 
+def is_measurement(text: str) -> bool:
+    """Every bench's table says when and where it was "Measured"."""
+    return "Measured" in text
+
+
 def write_machine_table(page: Path, start: str, end: str, table: str,
                         machine: dict) -> bool:
     """write_table for the table of one kind of CPU: the other kinds' tables stay. An
     older table without a kind is replaced when it names this machine's CPU, and kept
-    (as the record of another machine) when it does not."""
+    (as the record of another machine) when it does not; words that are no measurement
+    (the page's "no quiet run recorded yet") go once a table comes."""
     text = page.read_text()
     if start not in text or end not in text:
         print(f"bench: {page} has no {start} ... {end}: table not written", file=sys.stderr)
@@ -313,7 +319,7 @@ def write_machine_table(page: Path, start: str, end: str, table: str,
     kind, cpu = machine_kind(machine), machine.get("cpu") or ""
     block = text.split(start, 1)[1].split(end, 1)[0]
     kept = [(k, t) for k, t in tables_by_kind(block)
-            if k != kind and not (k is None and cpu and cpu in t)]
+            if k != kind and not (k is None and ((cpu and cpu in t) or not is_measurement(t)))]
     body = "\n\n".join((f"<!-- measured on: {k} -->\n{t}" if k else t)
                          for k, t in [*kept, (kind, table.strip())])
     return write_table(page, start, end, body)
