@@ -28,7 +28,7 @@ import pytest
 from conftest import (RUNNER, ROOT, chapter_name, copy_shaders, program_path, read_pfm,
                       regions_agreeing, run_chapter)
 
-from course_tools.editions import classroom
+from course_tools import python_imports
 from course_tools.grading import grader
 from course_tools import reference_cache
 
@@ -173,10 +173,10 @@ def scene_fingerprint(value) -> str:
 
 def translating_sources() -> list[Path]:
     """mitsuba_reference.py and every python_prototypes module it imports, at any depth
-    (classroom.imported_modules, which finds a starter's modules the same way), sorted:
+    (python_imports.imported_modules, which finds a starter's modules the same way), sorted:
     what turns a scene into Mitsuba's."""
     module = ROOT / "python_prototypes" / "mitsuba_reference.py"
-    return sorted({module, *classroom.imported_modules(module, [ROOT])})
+    return sorted({module, *python_imports.imported_modules(module, [ROOT])})
 
 
 def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,

@@ -350,3 +350,27 @@ def test_a_mitsuba_render_is_keyed_by_the_prototypes_that_translate_its_scene():
             "python_prototypes/pfm.py"} <= names
     assert "python_prototypes/instances.py" not in names
     assert "python_prototypes/bvh_2d.py" not in names
+
+
+def test_a_prototype_figure_is_keyed_by_its_script_and_what_it_imports(tmp_path, monkeypatch):
+    """A book figure drawn by a prototype is kept under its script and the prototypes it
+    imports: changing one of those draws it again, a new or changed prototype it does
+    not import keeps it (as a Mitsuba render's key does)."""
+    from course_tools.cli import book
+    prototypes = tmp_path / "python_prototypes"
+    prototypes.mkdir()
+    (prototypes / "__init__.py").write_text("")
+    (prototypes / "curves.py").write_text("def curve():\n    return 1\n")
+    (prototypes / "curves_figures.py").write_text(
+        "from python_prototypes.curves import curve\nprint(curve())\n")
+    (prototypes / "other.py").write_text("x = 1\n")
+    monkeypatch.setattr(book, "ROOT", tmp_path)
+    monkeypatch.setattr(book, "BUILD", tmp_path / "build")
+    program = "python_prototypes/curves_figures.py"
+    first = book.figure_key(program, ["--size", "64"])
+    (prototypes / "other.py").write_text("x = 2\n")
+    (prototypes / "denoise.py").write_text("y = 3\n")
+    assert book.figure_key(program, ["--size", "64"]) == first
+    assert book.figure_key(program, ["--size", "32"]) != first
+    (prototypes / "curves.py").write_text("def curve():\n    return 2\n")
+    assert book.figure_key(program, ["--size", "64"]) != first

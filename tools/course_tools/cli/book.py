@@ -77,17 +77,21 @@ def figure_programs(rows) -> list[str]:
 
 
 def figure_key(program: str, arguments: list[str]) -> str:
-    """What makes a figure, as a reference cache key (tools/course_tools/reference_cache.py): for a
-    chapter, what makes its grading references (grader.reference_maker: its sources,
-    the common layer, build files, assets, compiler, GL and Mesa's settings); for a
-    prototype, the prototypes and the Python, numpy and matplotlib that draw it; for
-    both, the test data figures may name, and the arguments."""
+    """What makes a figure, as a reference cache key (course_tools/reference_cache.py):
+    for a chapter, what makes its grading references (grader.reference_maker: its
+    sources, the common layer, build files, assets, compiler, GL and Mesa's settings);
+    for a prototype, its script and the prototypes it imports (so a new prototype beside
+    them keeps every kept figure), the built assets and the Python, numpy and matplotlib
+    that draw it; for both, the test data figures may name, and the arguments."""
     from course_tools import reference_cache
     if program.startswith("python_prototypes/"):
         import importlib.metadata
+        from course_tools.python_imports import imported_modules
         versions = [importlib.metadata.version(p) for p in ("numpy", "matplotlib")]
+        script = ROOT / program  # with the prototypes it imports, and only those
+        sources = sorted({script, *imported_modules(script, [ROOT])})
         maker = reference_cache.key("prototype figure", reference_cache.tree_digest(
-            ROOT / "python_prototypes", BUILD / "assets"), sys.version, *versions)
+            *sources, BUILD / "assets"), sys.version, *versions)
     else:
         from course_tools.grading import grader
         maker = grader.reference_maker(ROOT, BUILD, find_chapter(program))

@@ -8,6 +8,7 @@ import shutil
 from pathlib import Path
 
 from course_tools import chapters as chapter_list
+from course_tools.python_imports import imported_modules
 from course_tools.editions import editions
 from course_tools.editions.solution_markers import (MARKED_SUFFIXES, find_blocks,
                                                     keep_solutions, strip_solutions)
@@ -52,31 +53,6 @@ def has_exercises(root: Path, chapter: str) -> bool:
     return any(find_blocks(path.read_text(), str(path))
                for top in ("chapters", "shaders") for path in (root / top / chapter).rglob("*")
                if path.suffix in MARKED_SUFFIXES)
-
-
-def imported_modules(test_file: Path, folders: list[Path]) -> set[Path]:
-    """The modules under `folders` that a chapter's tests import, and what those import
-    in turn: `import a.b`, `from a.b import c` (a.b, or the module a/b/c.py) resolved
-    against each folder (the repository's root for python_prototypes' modules, the
-    tests' own folder for their helpers), with the packages' __init__.py."""
-    wanted, queue = set(), [test_file]
-    while queue:
-        text = queue.pop().read_text()
-        names = []
-        for module, what in re.findall(r"^[ \t]*from[ \t]+([\w.]+)[ \t]+import[ \t]+"
-                                       r"(\([^)]*\)|[^\n#]*)", text, flags=re.M):
-            names += [module] + [f"{module}.{word}" for word in re.findall(r"\w+", what)]
-        names += re.findall(r"^[ \t]*import[ \t]+([\w.]+)", text, flags=re.M)
-        for module in names:
-            for folder in folders:
-                candidate = folder / (module.replace(".", "/") + ".py")
-                if candidate.exists() and candidate not in wanted:
-                    wanted.add(candidate)
-                    queue.append(candidate)
-                    package_init = candidate.parent / "__init__.py"
-                    if package_init.exists():
-                        wanted.add(package_init)
-    return wanted
 
 
 def page_prototypes(root: Path, chapter: str) -> list[str]:
