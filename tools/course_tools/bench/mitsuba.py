@@ -31,7 +31,6 @@ import numpy as np
 
 from course_tools import manifests
 from course_tools.bench import common as bench_common
-from course_tools.bench.common import cpu_model  # noqa: F401  (others import it from here)
 from course_tools.paths import ROOT
 from course_tools.program_output import last_json_line
 from python_prototypes.pfm import read_pfm
