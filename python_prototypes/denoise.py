@@ -1,0 +1,287 @@
+"""Denoising in numpy: a clean picture from a few samples a pixel, by a filter that
+knows where the edges are. The prototype of the denoising chapter, in float64, on a
+still life in two dimensions whose true picture is known exactly.
+
+A path tracer's picture at a few samples a pixel is the true picture plus noise that
+has no mean: averaging neighbours removes noise, and the art is to average only
+neighbours that should look alike. The steps, each one's picture in the page:
+
+- a box blur and a Gaussian blur average every neighbour: the noise goes, and so does
+  every edge (box_blur, gaussian_blur);
+- the path tracer also writes what the first hit saw, exactly and without noise: the
+  surface's albedo, its normal and its depth (Features). A *cross-bilateral* filter
+  weighs each neighbour by how alike those are (edge_weights), so it does not average
+  across a silhouette or a crease (cross_bilateral);
+- the texture would be smeared all the same, since albedo changes from texel to texel:
+  the filter works on the *illumination*, the colour divided by the albedo, and
+  multiplies the albedo back in afterwards (demodulate, remodulate);
+- a wide filter is slow, (2r + 1)^2 taps a pixel. The edge-avoiding a-trous wavelet
+  filter (Dammertz et al. 2010) runs a 5 x 5 kernel several times, its taps 1, 2, 4,
+  8, 16 pixels apart: 25 taps a pass reach 63 pixels across in five (atrous);
+- a shadow's edge is in the illumination, not in the features: the last weight is the
+  illumination's luminance, compared in units of its noise (the variance the path
+  tracer measured, filtered along with the picture: SVGF, Schied et al. 2017).
+
+Every filter divides by the sum of its weights (a filter moves noise, not light): a
+flat picture stays flat, and block means stay the true picture's (checked).
+
+    python python_prototypes/denoise.py          # the still life's errors, raw and filtered
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+
+import numpy as np
+
+B3 = np.array([1.0, 4.0, 6.0, 4.0, 1.0]) / 16.0  # the a-trous kernel: a B3 spline's taps
+GAUSS3 = (0.25, 0.5, 0.25)  # a 3-tap Gaussian, for the noise's own estimate
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, linear RGB
+ALBEDO_FLOOR = 0.01  # black albedo has no illumination to speak of: divide by this instead
+EPSILON = 1e-10
+
+
+@dataclass
+class Features:
+    """What the first hit of each pixel's camera ray saw, without noise: (H, W, 3)
+    albedo and unit normal, (H, W) depth along the view."""
+    albedo: np.ndarray
+    normal: np.ndarray
+    depth: np.ndarray
+
+    def depth_slope(self) -> np.ndarray:
+        """How fast depth changes from a pixel to its neighbour on the same surface (a
+        floor seen at a grazing angle changes depth quickly without any edge): along x
+        and along y the smaller of the differences to the two neighbours, since at a
+        silhouette one of them is the jump; the larger of the two axes."""
+        z = np.pad(self.depth, 1, mode="reflect")  # the border's one difference, twice
+        centre = z[1:-1, 1:-1]
+        along_x = np.minimum(np.abs(z[1:-1, 2:] - centre), np.abs(centre - z[1:-1, :-2]))
+        along_y = np.minimum(np.abs(z[2:, 1:-1] - centre), np.abs(centre - z[:-2, 1:-1]))
+        return np.maximum(along_x, along_y)
+
+
+@dataclass(frozen=True)
+class Sigmas:
+    """How quickly each weight falls off (SVGF's choices): depth in units of the
+    expected change across the tap's distance, the normal's cosine raised to a power,
+    luminance in standard deviations of its noise."""
+    depth: float = 1.0
+    normal: float = 128.0
+    luminance: float = 4.0
+
+
+def luminance(rgb: np.ndarray) -> np.ndarray:
+    return rgb @ LUMINANCE
+
+
+def shifted(image: np.ndarray, dy: int, dx: int) -> tuple[np.ndarray, np.ndarray]:
+    """image[y + dy, x + dx] for every pixel (edge pixels repeated outside), and where
+    that tap lies inside the picture: taps outside get no weight."""
+    h, w = image.shape[:2]
+    ys = np.clip(np.arange(h) + dy, 0, h - 1)
+    xs = np.clip(np.arange(w) + dx, 0, w - 1)
+    inside = ((np.arange(h) + dy >= 0) & (np.arange(h) + dy < h))[:, None] & \
+        ((np.arange(w) + dx >= 0) & (np.arange(w) + dx < w))[None, :]
+    return image[ys][:, xs], inside
+
+
+def weighted_sum(image: np.ndarray, taps) -> np.ndarray:
+    """sum of w image(q) / sum of w over the taps (dy, dx, weight), outside taps left out."""
+    total = np.zeros(image.shape, dtype=np.float64)
+    weights = np.zeros(image.shape[:2], dtype=np.float64)
+    for dy, dx, weight in taps:
+        value, inside = shifted(image, dy, dx)
+        w = weight * inside
+        total += (w[..., None] if image.ndim == 3 else w) * value
+        weights += w
+    return total / (weights[..., None] if image.ndim == 3 else weights)
+
+
+def box_blur(image: np.ndarray, radius: int) -> np.ndarray:
+    offsets = range(-radius, radius + 1)
+    return weighted_sum(image, [(dy, dx, 1.0) for dy in offsets for dx in offsets])
+
+
+def gaussian_blur(image: np.ndarray, sigma: float) -> np.ndarray:
+    radius = int(np.ceil(3.0 * sigma))
+    offsets = range(-radius, radius + 1)
+    return weighted_sum(image, [(dy, dx, np.exp(-(dy * dy + dx * dx) / (2 * sigma ** 2)))
+                                for dy in offsets for dx in offsets])
+
+
+def demodulate(colour: np.ndarray, albedo: np.ndarray) -> np.ndarray:
+    """The illumination: what the surface received, the texture divided out."""
+    return colour / np.maximum(albedo, ALBEDO_FLOOR)
+
+
+def remodulate(illumination: np.ndarray, albedo: np.ndarray) -> np.ndarray:
+    return illumination * np.maximum(albedo, ALBEDO_FLOOR)
+
+
+def edge_weights(features: Features, dy: int, dx: int, sigmas: Sigmas,
+                 light: np.ndarray | None = None, light_noise: np.ndarray | None = None
+                 ) -> np.ndarray:
+    """How much the tap (dy, dx) away may count, from 0 to 1, per pixel: alike depth
+    (against the depth's slope times the tap's distance), alike normals, and, where
+    the illumination's luminance and its noise (standard deviation) are given, alike
+    light."""
+    depth_q, _ = shifted(features.depth, dy, dx)
+    expected = sigmas.depth * features.depth_slope() * np.hypot(dy, dx)
+    weight = np.exp(-np.abs(features.depth - depth_q) / (expected + EPSILON))
+    normal_q, _ = shifted(features.normal, dy, dx)
+    cosine = np.clip(np.sum(features.normal * normal_q, axis=-1), 0.0, 1.0)
+    weight = weight * cosine ** sigmas.normal
+    if light is not None:
+        light_q, _ = shifted(light, dy, dx)
+        weight = weight * np.exp(-np.abs(light - light_q) /
+                                 (sigmas.luminance * light_noise + EPSILON))
+    return weight
+
+
+def cross_bilateral(illumination: np.ndarray, features: Features, radius: int,
+                    sigma: float, sigmas: Sigmas = Sigmas()) -> np.ndarray:
+    """A Gaussian of `sigma` pixels whose taps are weighed by the features alone:
+    (2 radius + 1)^2 taps a pixel."""
+    offsets = range(-radius, radius + 1)
+    return weighted_sum(illumination, [
+        (dy, dx, np.exp(-(dy * dy + dx * dx) / (2 * sigma ** 2)) *
+         edge_weights(features, dy, dx, sigmas)) for dy in offsets for dx in offsets])
+
+
+def atrous_pass(illumination: np.ndarray, variance: np.ndarray, features: Features,
+                step: int, sigmas: Sigmas = Sigmas(), normalise: bool = True
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """One pass of the edge-avoiding a-trous filter: the 5 x 5 B3 kernel with its taps
+    `step` pixels apart, each weighed by edge_weights. The variance of the luminance
+    goes through the same pass with the weights squared (the variance of a weighted
+    mean), so the next pass knows how much noise is left."""
+    light = luminance(illumination)
+    # The luminance's noise, from a 3 x 3 Gaussian of the variance (one pixel's own
+    # estimate is itself noisy).
+    blurred = weighted_sum(variance, [(dy, dx, GAUSS3[dy + 1] * GAUSS3[dx + 1])
+                                      for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
+    light_noise = np.sqrt(np.maximum(blurred, 0.0))
+    total = np.zeros_like(illumination)
+    total_variance = np.zeros_like(variance)
+    weights = np.zeros_like(variance)
+    for i in range(-2, 3):
+        for j in range(-2, 3):
+            dy, dx = i * step, j * step
+            value, inside = shifted(illumination, dy, dx)
+            value_variance, _ = shifted(variance, dy, dx)
+            w = B3[i + 2] * B3[j + 2] * inside * edge_weights(
+                features, dy, dx, sigmas, light, light_noise)
+            total += w[..., None] * value
+            total_variance += w * w * value_variance
+            weights += w
+    if not normalise:  # a planted mistake: the weights' sum left in
+        return total, total_variance
+    return total / weights[..., None], total_variance / (weights * weights)
+
+
+def atrous(colour: np.ndarray, variance: np.ndarray, features: Features, passes: int = 5,
+           sigmas: Sigmas = Sigmas(), double_step: bool = True, put_albedo_back: bool = True,
+           normalise: bool = True) -> np.ndarray:
+    """The whole filter: the illumination filtered `passes` times, the taps 1, 2, 4, ...
+    pixels apart, and the albedo multiplied back in. `variance` is the variance of the
+    noisy illumination's luminance, per pixel (of the pixel's mean, not of a sample).
+    The three flags plant the checks' mistakes."""
+    illumination = demodulate(colour, features.albedo)
+    for level in range(passes):
+        step = 2 ** level if double_step else 1
+        illumination, variance = atrous_pass(illumination, variance, features, step,
+                                             sigmas, normalise)
+    return remodulate(illumination, features.albedo) if put_albedo_back else illumination
+
+
+def relative_mse(image: np.ndarray, reference: np.ndarray) -> float:
+    """The issue's error measure: mean((x - ref)^2 / (ref^2 + 0.01)), bright and dark
+    regions counting alike."""
+    return float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
+
+
+def block_means(image: np.ndarray, block: int) -> np.ndarray:
+    h, w = image.shape[0] // block * block, image.shape[1] // block * block
+    cut = image[:h, :w]
+    return cut.reshape(h // block, block, w // block, block, -1).mean(axis=(1, 3))
+
+
+# ---------------------------------------------------------------- a still life in 2D
+
+@dataclass
+class StillLife:
+    """A picture whose truth is known: a chequered back wall, a floor meeting it at a
+    crease, a red box standing in front (a silhouette: depth jumps), and a lamp to the
+    left whose light falls off smoothly, with the box's hard shadow on the floor (an
+    edge that only the illumination has)."""
+    features: Features
+    illumination: np.ndarray  # (H, W, 3), the truth
+
+    @property
+    def colour(self) -> np.ndarray:
+        return remodulate(self.illumination, self.features.albedo)
+
+
+def still_life(width: int = 128, height: int = 96) -> StillLife:
+    y, x = np.mgrid[0:height, 0:width]
+    u, v = (x + 0.5) / width, (y + 0.5) / height
+    floor = v > 0.62
+    box = (u > 0.52) & (u < 0.78) & (v > 0.35) & (v < 0.8)
+    depth = np.where(floor, 2.0 + 6.0 * (1.0 - v), 4.0)  # the floor comes towards us
+    depth = np.where(box, 2.5, depth)
+    normal = np.zeros((height, width, 3))
+    normal[..., 2] = 1.0
+    normal[floor & ~box] = (0.0, 1.0, 0.0)
+    chequer = ((x // 8 + y // 8) % 2 == 0)
+    albedo = np.where(chequer[..., None], (0.8, 0.75, 0.7), (0.25, 0.3, 0.35))
+    albedo = np.where(floor[..., None], (0.5, 0.5, 0.5), albedo)
+    albedo = np.where(box[..., None], (0.7, 0.15, 0.12), albedo)
+    light = 0.4 + 1.6 * np.exp(-((u - 0.1) ** 2 + (v - 0.3) ** 2) / 0.25)
+    shadow = floor & ~box & (u > 0.78) & (u < 0.98) & (v > 0.66)  # cast to the right
+    light = np.where(shadow, 0.25 * light, light)
+    illumination = np.repeat(light[..., None], 3, axis=2) * (1.0, 0.95, 0.85)
+    return StillLife(Features(albedo, normal, depth), illumination)
+
+
+def noisy_render(scene: StillLife, spp: int, rng: np.random.Generator, noise: float = 2.0
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """What a path tracer gives at `spp` samples a pixel: each sample the true
+    illumination times a positive random factor of mean 1 and variance `noise` (a
+    gamma variable: most samples dim, a few bright, as paths that find the lamp or
+    not), the albedo exact. Returns the mean colour and the variance of the mean's
+    illumination luminance, estimated from the samples as a renderer does (sum of
+    squares)."""
+    shape = 1.0 / noise
+    factors = rng.gamma(shape, 1.0 / shape, size=(spp, *scene.illumination.shape[:2]))
+    samples = factors[..., None] * scene.illumination  # (spp, H, W, 3)
+    light = luminance(samples)
+    mean = samples.mean(axis=0)
+    variance = light.var(axis=0, ddof=1) / spp if spp > 1 else light[0] ** 2 * noise
+    return remodulate(mean, scene.features.albedo), variance
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--spp", type=int, default=8)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    scene = still_life()
+    rng = np.random.default_rng(args.seed)
+    colour, variance = noisy_render(scene, args.spp, rng)
+    truth = scene.colour
+    print(f"relative MSE at {args.spp} spp against the truth:")
+    print(f"  raw                {relative_mse(colour, truth):.5f}")
+    print(f"  Gaussian blur      {relative_mse(gaussian_blur(colour, 2.0), truth):.5f}")
+    bilateral = remodulate(cross_bilateral(demodulate(colour, scene.features.albedo),
+                                           scene.features, 6, 3.0), scene.features.albedo)
+    print(f"  cross-bilateral    {relative_mse(bilateral, truth):.5f}")
+    print(f"  a-trous, 5 passes  "
+          f"{relative_mse(atrous(colour, variance, scene.features), truth):.5f}")
+    raw64, _ = noisy_render(scene, 64, rng)
+    print(f"  raw at 64 spp      {relative_mse(raw64, truth):.5f}")
+
+
+if __name__ == "__main__":
+    main()
