@@ -50,22 +50,25 @@ class Features:
     normal: np.ndarray
     depth: np.ndarray
 
-    def depth_slope(self) -> np.ndarray:
-        """How fast depth changes from a pixel to its neighbour on the same surface (a
-        floor seen at a grazing angle changes depth quickly without any edge): along x
-        and along y the smaller of the differences to the two neighbours, since at a
-        silhouette one of them is the jump; the larger of the two axes."""
-        z = np.pad(self.depth, 1, mode="reflect")  # the border's one difference, twice
+    def depth_gradient(self) -> tuple[np.ndarray, np.ndarray]:
+        """How depth changes from a pixel to the next along x and along y on the same
+        surface (a floor seen at a grazing angle changes depth quickly without any
+        edge): of the differences to the two neighbours on an axis, the smaller, since
+        at a silhouette one of them is the jump."""
+        z = np.pad(self.depth, 1, mode="reflect")  # at the border, its one difference
         centre = z[1:-1, 1:-1]
-        along_x = np.minimum(np.abs(z[1:-1, 2:] - centre), np.abs(centre - z[1:-1, :-2]))
-        along_y = np.minimum(np.abs(z[2:, 1:-1] - centre), np.abs(centre - z[:-2, 1:-1]))
-        return np.maximum(along_x, along_y)
+
+        def smaller(ahead, behind):
+            return np.where(np.abs(ahead) < np.abs(behind), ahead, behind)
+
+        return (smaller(z[1:-1, 2:] - centre, centre - z[1:-1, :-2]),
+                smaller(z[2:, 1:-1] - centre, centre - z[:-2, 1:-1]))
 
 
 @dataclass(frozen=True)
 class Sigmas:
-    """How quickly each weight falls off (SVGF's choices): depth in units of the
-    expected change across the tap's distance, the normal's cosine raised to a power,
+    """How quickly each weight falls off (SVGF's choices): depth off the pixel's plane
+    in units of the plane's change across the tap's distance, the normal's cosine raised to a power,
     luminance in standard deviations of its noise."""
     depth: float = 1.0
     normal: float = 128.0
@@ -123,13 +126,21 @@ def remodulate(illumination: np.ndarray, albedo: np.ndarray) -> np.ndarray:
 def edge_weights(features: Features, dy: int, dx: int, sigmas: Sigmas,
                  light: np.ndarray | None = None, light_noise: np.ndarray | None = None
                  ) -> np.ndarray:
-    """How much the tap (dy, dx) away may count, from 0 to 1, per pixel: alike depth
-    (against the depth's slope times the tap's distance), alike normals, and, where
+    """How much the tap (dy, dx) away may count, from 0 to 1, per pixel: its depth on
+    the pixel's plane (the gradient's prediction; SVGF compares the change with the
+    prediction's size instead, which gives a tap on the same plane exp(-1) unless the
+    plane is level along the offset, so its weights streak along slopes), alike
+    normals, and, where
     the illumination's luminance and its noise (standard deviation) are given, alike
     light."""
     depth_q, _ = shifted(features.depth, dy, dx)
-    expected = sigmas.depth * features.depth_slope() * np.hypot(dy, dx)
-    weight = np.exp(-np.abs(features.depth - depth_q) / (expected + EPSILON))
+    along_x, along_y = features.depth_gradient()
+    # On the pixel's own plane the tap's depth is the pixel's plus the gradient times
+    # the offset: what differs from that, in units of the plane's change over the
+    # tap's distance, is an edge.
+    off_plane = np.abs(depth_q - features.depth - (along_x * dx + along_y * dy))
+    scale = sigmas.depth * np.hypot(along_x, along_y) * np.hypot(dx, dy)
+    weight = np.exp(-off_plane / (scale + EPSILON))
     normal_q, _ = shifted(features.normal, dy, dx)
     cosine = np.clip(np.sum(features.normal * normal_q, axis=-1), 0.0, 1.0)
     weight = weight * cosine ** sigmas.normal
