@@ -111,6 +111,10 @@ void BufferTexture::bind(GLuint unit) const {
     glActiveTexture(GL_TEXTURE0);
 }
 
+void BufferTexture::bindImage(GLuint unit) const {
+    glBindImageTexture(unit, id_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32UI);
+}
+
 ImageBuffer::ImageBuffer(int width, int height)
     : width(width), height(height),
       pixels(size_t(width) * size_t(height) * 4 * sizeof(float)) {}

@@ -67,6 +67,10 @@ public:
 
     // Makes it the texture of `layout(binding = unit) uniform usamplerBuffer`.
     void bind(GLuint unit) const;
+    // Makes it the image of `layout(rgba32ui, binding = unit) uniform uimageBuffer`,
+    // which a shader may read and write texel by texel (imageLoad, imageStore; GL 4.2):
+    // a way to write a buffer from a shader whose storage blocks are all taken.
+    void bindImage(GLuint unit) const;
 
 private:
     GLuint id_ = 0;

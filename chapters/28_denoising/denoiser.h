@@ -1,0 +1,46 @@
+// The denoiser (denoise.comp): the buffers the path tracer writes its first surfaces and
+// illumination into, the filter's passes over them, and the denoised picture.
+#pragma once
+#include <string>
+
+#include "course/cli.h"
+#include "course/gpu_buffer.h"
+#include "course/session.h"
+#include "shared.h"  // gpu::DenoiseParameters, FILTER_*
+
+struct DenoiseOptions {
+    std::string filter = "atrous";  // --denoise: none, box, gaussian, features, atrous
+    int passes = 5;                 // --denoise-passes
+    std::string auxOut;             // --aux-out PREFIX: the feature buffers as PFMs
+    gpu::DenoiseParameters weights{};  // the weights' sigmas (--depth-sigma, ...)
+};
+
+void declareDenoiseOptions(course::CommandLine& cli, DenoiseOptions& options);
+
+class Denoiser {
+public:
+    Denoiser(course::Session& session, int width, int height, const DenoiseOptions& options);
+
+    bool enabled() const { return options_.filter != "none"; }
+    // The picture --out writes and the window shows: the denoised one, or the path
+    // tracer's own with --denoise none.
+    const course::ImageBuffer& picture(const course::ImageBuffer& pathTraced) const {
+        return enabled() ? denoised_ : pathTraced;
+    }
+    // Filters the means of `samples` samples into picture().
+    void run(unsigned samples);
+    // --aux-out PREFIX: PREFIX_albedo.pfm, _normal.pfm (0.5 + 0.5 n), _depth.pfm and
+    // _variance.pfm (of the illumination's luminance), each printed.
+    void writeAuxiliary(unsigned samples);
+
+private:
+    void dispatch(int stage, unsigned samples, unsigned step = 1);
+
+    DenoiseOptions options_;
+    int width_, height_;
+    course::ShaderProgram& program_;
+    course::GpuBuffer features_, illumination_, filtered_, filteredOut_;
+    course::BufferTexture featureTexels_, illuminationTexels_;
+    course::ImageBuffer denoised_;
+    course::GpuBuffer parameters_;
+};

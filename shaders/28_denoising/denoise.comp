@@ -1,0 +1,151 @@
+#version 430 core
+// The denoiser: the path tracer's mean illumination filtered by weights that stop at
+// edges, then the albedo put back. One dispatch is one stage (DenoiseParameters.stage):
+//   gather  the illumination's mean and the variance of that mean, from the samples'
+//           first two moments;
+//   filter  one pass of a 5 x 5 kernel whose taps are `tapStep` pixels apart: the
+//           edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
+//           luminance weight (Schied et al. 2017), or a plainer filter to compare;
+//   finish  the filtered illumination times the albedo: the denoised picture.
+#include "shared.h"
+#include "tone_mapping.glsl"
+
+layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
+struct Features {
+    vec4 albedoDepth;  // albedo (rgb), depth along the path (w)
+    vec4 normal;       // the mean of the samples' normals: shorter than 1 at an edge
+    vec4 emitted;      // the light the surface sends the camera itself (rgb)
+};
+layout(std430, binding = FEATURES_BINDING) readonly buffer FeatureBuffer {
+    Features features[];
+};
+layout(std430, binding = ILLUMINATION_BINDING) readonly buffer Illumination {
+    vec4 illumination[];  // mean (rgb), mean of the luminance squared (w)
+};
+layout(std430, binding = FILTERED_BINDING) readonly buffer Filtered {
+    vec4 filtered[];      // illumination (rgb), the variance of its luminance (w)
+};
+layout(std430, binding = FILTERED_OUT_BINDING) writeonly buffer FilteredOut {
+    vec4 filteredOut[];
+};
+layout(std430, binding = DENOISED_BINDING) writeonly buffer Denoised { vec4 denoised[]; };
+
+const float KERNEL[5] = float[5](1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
+const float EPSILON = 1e-10;
+
+uint indexOf(ivec2 pixel) { return uint(pixel.y) * filterSize.x + uint(pixel.x); }
+bool inside(ivec2 pixel) { return all(greaterThanEqual(pixel, ivec2(0))) &&
+                                  all(lessThan(pixel, ivec2(filterSize))); }
+float depthAt(ivec2 pixel) { return features[indexOf(pixel)].albedoDepth.w; }
+
+// --8<-- [start:gather]
+// The variance of the mean of n samples: (E[l^2] - E[l]^2) / (n - 1). One sample says
+// nothing of its noise: call it large, so the luminance weight lets everything through.
+vec4 gathered(uint index) {
+    vec4 moments = illumination[index];
+    float mean = luminance(moments.rgb);
+    float variance = samples > 1u ? max(moments.w - mean * mean, 0.0) / float(samples - 1u)
+                                  : 1e30;
+    return vec4(moments.rgb, variance);
+}
+// --8<-- [end:gather]
+
+// --8<-- [start:gradient]
+// How depth changes to the next pixel on the same surface, along x and y: of the
+// differences to the two neighbours on an axis, the smaller (at a silhouette, the
+// other is the jump); at the image's border, the one there is.
+float smaller(float ahead, float behind) { return abs(ahead) < abs(behind) ? ahead : behind; }
+vec2 depthGradient(ivec2 pixel) {
+    float here = depthAt(pixel);
+    vec2 gradient;
+    for (int axis = 0; axis < 2; ++axis) {
+        ivec2 offset = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        bool hasAhead = inside(pixel + offset), hasBehind = inside(pixel - offset);
+        float ahead = hasAhead ? depthAt(pixel + offset) - here : 0.0;
+        float behind = hasBehind ? here - depthAt(pixel - offset) : 0.0;
+        gradient[axis] = !hasAhead ? behind : !hasBehind ? ahead : smaller(ahead, behind);
+    }
+    return gradient;
+}
+// --8<-- [end:gradient]
+
+// --8<-- [start:weights]
+// How much the tap at `offset` may count, from 0 to 1: its depth against the pixel's
+// plane, its normal against the pixel's, and (the a-trous filter) its luminance
+// against the pixel's, in units of the luminance's noise.
+float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec3 normal, float light,
+                 float lightNoise, vec4 tap) {
+    ivec2 other = pixel + offset;
+    float offPlane = abs(depthAt(other) - depthAt(pixel) - dot(gradient, vec2(offset)));
+    float scale = depthSigma * length(gradient) * length(vec2(offset));
+    float weight = exp(-offPlane / (scale + EPSILON));
+    vec3 otherNormal = features[indexOf(other)].normal.xyz;
+    float lengths = length(normal) * length(otherNormal);
+    float cosine = dot(normal, otherNormal) / max(lengths, EPSILON);
+    weight *= pow(clamp(cosine, 0.0, 1.0), normalPower);
+    float lightApart = abs(light - luminance(tap.rgb));
+    if (filterKind == FILTER_ATROUS)
+        weight *= exp(-lightApart / (luminanceSigma * lightNoise + EPSILON));
+    return weight;
+}
+// --8<-- [end:weights]
+
+// The luminance's noise at `pixel`: the square root of a 3 x 3 Gaussian of the
+// variance (one pixel's own estimate is noisy itself).
+float noiseAround(ivec2 pixel) {
+    float variance = 0.0, total = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 other = pixel + ivec2(x, y);
+            if (!inside(other)) continue;
+            float w = (x == 0 ? 0.5 : 0.25) * (y == 0 ? 0.5 : 0.25);
+            variance += w * filtered[indexOf(other)].w;
+            total += w;
+        }
+    return sqrt(variance / total);
+}
+
+// --8<-- [start:pass]
+// One pass: sum w illumination / sum w over the taps, and the variance through the
+// same weights squared (the variance of a weighted mean), so the next pass knows how
+// much noise is left.
+vec4 filterPass(ivec2 pixel) {
+    uint index = indexOf(pixel);
+    vec4 centre = filtered[index];
+    vec2 gradient = depthGradient(pixel);
+    vec3 normal = features[index].normal.xyz;
+    float light = luminance(centre.rgb);
+    float lightNoise = filterKind == FILTER_ATROUS ? noiseAround(pixel) : 0.0;
+    vec3 sum = vec3(0.0);
+    float variance = 0.0, weights = 0.0;
+    for (int y = -2; y <= 2; ++y)
+        for (int x = -2; x <= 2; ++x) {
+            ivec2 offset = ivec2(x, y) * int(tapStep);
+            if (!inside(pixel + offset)) continue;
+            vec4 tap = filtered[indexOf(pixel + offset)];
+            float w = filterKind == FILTER_BOX ? 1.0 : KERNEL[x + 2] * KERNEL[y + 2];
+            if (filterKind >= FILTER_FEATURES)
+                w *= edgeWeight(pixel, offset, gradient, normal, light, lightNoise, tap);
+            sum += w * tap.rgb;
+            variance += w * w * tap.w;
+            weights += w;
+        }
+    return vec4(sum / weights, variance / (weights * weights));
+}
+// --8<-- [end:pass]
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(pixel)) return;
+    uint index = indexOf(pixel);
+    if (stage == STAGE_GATHER) {
+        filteredOut[index] = gathered(index);
+    } else if (stage == STAGE_FILTER) {
+        filteredOut[index] = filterPass(pixel);
+    } else {  // STAGE_FINISH: the albedo back, as it was divided out, and the light
+              // the surface emits, which was never filtered
+        vec3 albedo = max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
+        denoised[index] = vec4(filtered[index].rgb * albedo + features[index].emitted.rgb,
+                               1.0);
+    }
+}

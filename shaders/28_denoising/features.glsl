@@ -1,0 +1,53 @@
+// What the denoiser is guided by: each path's first surface that is not a mirror or
+// glass (through those, the surface they show: a mirror's reflection has edges of its
+// own), as the path found it, without noise. The means over a pixel's samples go to
+// the features buffer: its albedo, normal and depth, and the light it emits itself (a
+// lamp, the sky), which is exact and is not filtered. The rest of the path's light,
+// divided by that albedo, is the illumination, which is: it goes to the illumination
+// buffer, with its luminance squared (for its noise).
+#include "tone_mapping.glsl"
+
+layout(rgba32ui, binding = FEATURES_UNIT) uniform uimageBuffer featureTexels;
+layout(rgba32ui, binding = ILLUMINATION_UNIT) uniform uimageBuffer illuminationTexels;
+
+struct SurfaceFeatures {
+    vec3 albedo;  // times the tint of the mirrors and glass on the way
+    vec3 normal;  // the shading normal, in the world
+    float depth;  // the path's length to it
+    vec3 emitted; // the light it sends the camera itself
+};
+
+// --8<-- [start:record]
+// Called at every surface the path meets until `settled`: a mirror or glass leaves it
+// unsettled, so the surface behind it is recorded over it.
+void recordSurface(inout SurfaceFeatures first, inout bool settled, vec3 throughput,
+                   Material material, Hit hit, float travelled) {
+    if (settled) return;
+    first = SurfaceFeatures(throughput * material.albedo, hit.normal, travelled, vec3(0.0));
+    settled = !isDelta(material);
+}
+// --8<-- [end:record]
+
+vec4 meanWith(vec4 mean, vec4 value) {
+    return sampleIndex == 0u ? value : mean + (value - mean) / float(sampleIndex + 1u);
+}
+
+vec4 texelAt(bool features, int texel) {
+    return uintBitsToFloat(features ? imageLoad(featureTexels, texel)
+                                    : imageLoad(illuminationTexels, texel));
+}
+
+// --8<-- [start:accumulate_features]
+void accumulateFeatures(uint index, SurfaceFeatures first, vec3 radiance) {
+    vec3 illumination = (radiance - first.emitted) / max(first.albedo, vec3(ALBEDO_FLOOR));
+    float light = luminance(illumination);
+    int at = int(index);
+    vec4 texels[3] = vec4[3](vec4(first.albedo, first.depth), vec4(first.normal, 0.0),
+                             vec4(first.emitted, 0.0));
+    for (int i = 0; i < 3; ++i)
+        imageStore(featureTexels, 3 * at + i, floatBitsToUint(
+            meanWith(texelAt(true, 3 * at + i), texels[i])));
+    imageStore(illuminationTexels, at, floatBitsToUint(
+        meanWith(texelAt(false, at), vec4(illumination, light * light))));
+}
+// --8<-- [end:accumulate_features]
