@@ -62,7 +62,7 @@ void Denoiser::dispatch(int stage, unsigned samples, unsigned step) {
     parameters_.bindUniform(DENOISE_BINDING);
     filtered_.bindStorage(FILTERED_BINDING);
     filteredOut_.bindStorage(FILTERED_OUT_BINDING);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glMemoryBarrier(kShaderWrites);
     program_.dispatchCovering(width_, height_);
 }
 
@@ -83,7 +83,7 @@ void Denoiser::run(unsigned samples) {
 
 void Denoiser::writeAuxiliary(unsigned samples) {
     if (options_.auxOut.empty()) return;
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glMemoryBarrier(kShaderWrites);
     std::vector<float> features = features_.readAll<float>();
     dispatch(STAGE_GATHER, samples);  // the variance, as the filter's first pass sees it
     std::vector<float> gathered = filteredOut_.readAll<float>();

@@ -8,6 +8,10 @@
 #include "course/session.h"
 #include "shared.h"  // gpu::DenoiseParameters, FILTER_*
 
+// What a dispatch writes that the next must see: buffers, and texels through image units.
+constexpr GLbitfield kShaderWrites =
+    GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT;
+
 struct DenoiseOptions {
     std::string filter = "atrous";  // --denoise: none, box, gaussian, features, atrous
     int passes = 5;                 // --denoise-passes

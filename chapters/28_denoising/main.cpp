@@ -1,7 +1,6 @@
-// Chapter 28: denoising. Chapter 18's path tracer also writes what each path's first
-// surface was (its albedo, normal and depth) and the light it received there; an
-// edge-avoiding filter (denoise.comp, driven by denoiser.cpp) averages that light
-// across neighbours that look alike, and puts the albedo back.
+// Chapter 28: denoising. Chapter 18's path tracer also writes each path's first surface
+// (albedo, normal, depth) and the light it received; an edge-avoiding filter (denoiser.cpp,
+// denoise.comp) averages that light over neighbours that look alike, albedo put back.
 #include <algorithm>
 #include <chrono>
 #include <numeric>
@@ -111,8 +110,7 @@ int main(int argc, char** argv) {
         parameters.seed = options.seed;
         parameters.maxBounces = depth;
         parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
-                               : estimator == "bsdf" ? ESTIMATOR_BSDF
-                                                     : ESTIMATOR_MIS;
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF : ESTIMATOR_MIS;
         parameters.view = viewCode(view);
         parameters.occlusionDistance = 0.25f * scene.size;
         parameters.bruteForce = bruteForce;
@@ -120,16 +118,12 @@ int main(int argc, char** argv) {
         parameters.toneMap = toneMapCode(display.toneMap);
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
-        // --8<-- [start:denoiser]
-        // The denoiser's buffers (the path tracer writes the features and illumination
-        // into them) and its program; the other views are not light: left as they are.
+        // The denoiser, whose buffers the path tracer writes into (the views: as they are).
         if (view != "radiance") denoise.filter = "none";
         Denoiser denoiser(session, width, height, denoise);
-        // --8<-- [end:denoiser]
         unsigned samples = 0;
         auto addSample = [&] {
-            // Read what the last dispatch wrote, in buffers and through image units.
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            glMemoryBarrier(kShaderWrites);  // read what the last wrote
             parameters.camera = thinLensCamera(
                 makeCamera(fly.eye, fly.forward(), c.up, c.focalLength, c.sensorWidth),
                 c.lensRadius, c.focusDistance);
