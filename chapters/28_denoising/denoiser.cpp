@@ -36,17 +36,17 @@ Denoiser::Denoiser(course::Session& session, int width, int height,
     : options_(options), width_(width), height_(height),
       program_(session.loadCompute("denoise.comp")),
       features_(size_t(width) * height * 3 * kVec4),
-      illumination_(size_t(width) * height * kVec4),
+      reflected_(size_t(width) * height * kVec4),
       filtered_(size_t(width) * height * kVec4),
       filteredOut_(size_t(width) * height * kVec4),
       featureTexels_(features_, "the feature buffer"),
-      illuminationTexels_(illumination_, "the illumination buffer"),
+      reflectedTexels_(reflected_, "the reflected light's buffer"),
       denoised_(width, height), parameters_(sizeof(gpu::DenoiseParameters)) {
     // path.comp writes the first two through image units, denoise.comp reads them.
     featureTexels_.bindImage(FEATURES_UNIT);
-    illuminationTexels_.bindImage(ILLUMINATION_UNIT);
+    reflectedTexels_.bindImage(REFLECTED_UNIT);
     features_.bindStorage(FEATURES_BINDING);
-    illumination_.bindStorage(ILLUMINATION_BINDING);
+    reflected_.bindStorage(REFLECTED_BINDING);
     denoised_.pixels.bindStorage(DENOISED_BINDING);
     if (!options.auxOut.empty()) course::checkOutputPath(options.auxOut + "_albedo.pfm");
 }

@@ -43,8 +43,8 @@ private:
     DenoiseOptions options_;
     int width_, height_;
     course::ShaderProgram& program_;
-    course::GpuBuffer features_, illumination_, filtered_, filteredOut_;
-    course::BufferTexture featureTexels_, illuminationTexels_;
+    course::GpuBuffer features_, reflected_, filtered_, filteredOut_;
+    course::BufferTexture featureTexels_, reflectedTexels_;
     course::ImageBuffer denoised_;
     course::GpuBuffer parameters_;
 };

@@ -1,8 +1,8 @@
 #version 430 core
 // The denoiser: the path tracer's mean illumination filtered by weights that stop at
 // edges, then the albedo put back. One dispatch is one stage (DenoiseParameters.stage):
-//   gather  the illumination's mean and the variance of that mean, from the samples'
-//           first two moments;
+//   gather  the illumination (the reflected light's mean over the albedo's) and the
+//           variance of its luminance, from the samples' first two moments;
 //   filter  one pass of a 5 x 5 kernel whose taps are `tapStep` pixels apart: the
 //           edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
 //           luminance weight (Schied et al. 2017), or a plainer filter to compare;
@@ -19,8 +19,8 @@ struct Features {
 layout(std430, binding = FEATURES_BINDING) readonly buffer FeatureBuffer {
     Features features[];
 };
-layout(std430, binding = ILLUMINATION_BINDING) readonly buffer Illumination {
-    vec4 illumination[];  // mean (rgb), mean of the luminance squared (w)
+layout(std430, binding = REFLECTED_BINDING) readonly buffer Reflected {
+    vec4 reflected[];     // mean (rgb), mean of its luminance squared (w)
 };
 layout(std430, binding = FILTERED_BINDING) readonly buffer Filtered {
     vec4 filtered[];      // illumination (rgb), the variance of its luminance (w)
@@ -39,14 +39,18 @@ bool inside(ivec2 pixel) { return all(greaterThanEqual(pixel, ivec2(0))) &&
 float depthAt(ivec2 pixel) { return features[indexOf(pixel)].albedoDepth.w; }
 
 // --8<-- [start:gather]
-// The variance of the mean of n samples: (E[l^2] - E[l]^2) / (n - 1). One sample says
-// nothing of its noise: call it large, so the luminance weight lets everything through.
+// The illumination: the mean reflected light over the mean albedo (dividing each
+// sample by its own albedo and averaging would be wrong where a pixel's samples meet
+// two surfaces: the albedo put back is their mean). The variance of a mean of n
+// samples is (E[l^2] - E[l]^2) / (n - 1), divided by the albedo's luminance squared as
+// the light is; one sample says nothing of its noise: call it large.
 vec4 gathered(uint index) {
-    vec4 moments = illumination[index];
-    float mean = luminance(moments.rgb);
+    vec4 moments = reflected[index];
+    vec3 albedo = max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
+    float mean = luminance(moments.rgb), scale = max(luminance(albedo), ALBEDO_FLOOR);
     float variance = samples > 1u ? max(moments.w - mean * mean, 0.0) / float(samples - 1u)
                                   : 1e30;
-    return vec4(moments.rgb, variance);
+    return vec4(moments.rgb / albedo, variance / (scale * scale));
 }
 // --8<-- [end:gather]
 

@@ -2,13 +2,13 @@
 // glass (through those, the surface they show: a mirror's reflection has edges of its
 // own), as the path found it, without noise. The means over a pixel's samples go to
 // the features buffer: its albedo, normal and depth, and the light it emits itself (a
-// lamp, the sky), which is exact and is not filtered. The rest of the path's light,
-// divided by that albedo, is the illumination, which is: it goes to the illumination
-// buffer, with its luminance squared (for its noise).
+// lamp, the sky), which is exact and is not filtered. The rest of the path's light, the
+// light the surface reflects, goes to the reflected buffer with its luminance squared
+// (for its noise); denoise.comp divides the mean by the mean albedo.
 #include "tone_mapping.glsl"
 
 layout(rgba32ui, binding = FEATURES_UNIT) uniform uimageBuffer featureTexels;
-layout(rgba32ui, binding = ILLUMINATION_UNIT) uniform uimageBuffer illuminationTexels;
+layout(rgba32ui, binding = REFLECTED_UNIT) uniform uimageBuffer reflectedTexels;
 
 struct SurfaceFeatures {
     vec3 albedo;  // times the tint of the mirrors and glass on the way
@@ -34,20 +34,20 @@ vec4 meanWith(vec4 mean, vec4 value) {
 
 vec4 texelAt(bool features, int texel) {
     return uintBitsToFloat(features ? imageLoad(featureTexels, texel)
-                                    : imageLoad(illuminationTexels, texel));
+                                    : imageLoad(reflectedTexels, texel));
 }
 
 // --8<-- [start:accumulate_features]
 void accumulateFeatures(uint index, SurfaceFeatures first, vec3 radiance) {
-    vec3 illumination = (radiance - first.emitted) / max(first.albedo, vec3(ALBEDO_FLOOR));
-    float light = luminance(illumination);
+    vec3 reflected = radiance - first.emitted;
+    float light = luminance(reflected);
     int at = int(index);
     vec4 texels[3] = vec4[3](vec4(first.albedo, first.depth), vec4(first.normal, 0.0),
                              vec4(first.emitted, 0.0));
     for (int i = 0; i < 3; ++i)
         imageStore(featureTexels, 3 * at + i, floatBitsToUint(
             meanWith(texelAt(true, 3 * at + i), texels[i])));
-    imageStore(illuminationTexels, at, floatBitsToUint(
-        meanWith(texelAt(false, at), vec4(illumination, light * light))));
+    imageStore(reflectedTexels, at, floatBitsToUint(
+        meanWith(texelAt(false, at), vec4(reflected, light * light))));
 }
 // --8<-- [end:accumulate_features]

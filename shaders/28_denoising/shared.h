@@ -34,13 +34,13 @@
 // buffers as storage blocks.
 #define FEATURES_BINDING 18      // each pixel's first surface, 3 vec4s: its albedo and
                                  // depth, its normal, the light it emits (means)
-#define ILLUMINATION_BINDING 19  // each pixel's mean illumination (the radiance divided by
-                                 // that albedo), and the mean of its luminance squared
+#define REFLECTED_BINDING 19     // each pixel's mean light reflected by that surface (the
+                                 // rest of the radiance), and of its luminance squared
 #define FILTERED_BINDING 20      // a pass's input: illumination and its variance (w)
 #define FILTERED_OUT_BINDING 21  // and its output; the host swaps the two between passes
 #define DENOISED_BINDING 22      // the picture with the albedo put back: what --out writes
 #define FEATURES_UNIT 0          // path.comp's image units for the first two
-#define ILLUMINATION_UNIT 1
+#define REFLECTED_UNIT 1
 // --8<-- [end:buffers]
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
