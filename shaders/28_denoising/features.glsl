@@ -42,7 +42,8 @@ void accumulateFeatures(uint index, SurfaceFeatures first, vec3 radiance) {
     vec3 reflected = radiance - first.emitted;
     float light = luminance(reflected);
     int at = int(index);
-    vec4 texels[3] = vec4[3](vec4(first.albedo, first.depth), vec4(first.normal, 0.0),
+    float depth = first.depth;  // and its square, for the spread of a pixel's depths
+    vec4 texels[3] = vec4[3](vec4(first.albedo, depth), vec4(first.normal, depth * depth),
                              vec4(first.emitted, 0.0));
     for (int i = 0; i < 3; ++i)
         imageStore(featureTexels, 3 * at + i, floatBitsToUint(
