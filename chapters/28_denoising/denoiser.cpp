@@ -28,7 +28,7 @@ void declareDenoiseOptions(course::CommandLine& cli, DenoiseOptions& options) {
              "PREFIX_albedo.pfm, _normal.pfm, _depth.pfm, _variance.pfm", &options.auxOut);
     options.weights.depthSigma = 1.0f;
     options.weights.normalPower = 128.0f;
-    options.weights.luminanceSigma = 4.0f;
+    options.weights.luminanceSigma = 2.0f;
 }
 
 Denoiser::Denoiser(course::Session& session, int width, int height,

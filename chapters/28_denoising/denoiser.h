@@ -14,7 +14,7 @@ constexpr GLbitfield kShaderWrites =
 
 struct DenoiseOptions {
     std::string filter = "atrous";  // --denoise: none, box, gaussian, features, atrous
-    int passes = 5;                 // --denoise-passes
+    int passes = 3;                 // --denoise-passes
     std::string auxOut;             // --aux-out PREFIX: the feature buffers as PFMs
     gpu::DenoiseParameters weights{};  // the weights' sigmas (--depth-sigma, ...)
 };

@@ -17,13 +17,30 @@ struct SurfaceFeatures {
     vec3 emitted; // the light it sends the camera itself
 };
 
+// --8<-- [start:albedo]
+// The colour the denoiser divides out and puts back: a Lambertian surface's albedo, a
+// rough metal's reflectance head-on (its Fresnel colour), rough glass's 1 (clear: it
+// colours nothing). A material's albedo field means nothing for the last two, and a zero
+// there made their illumination (light over albedo) a hundred times too large, which
+// spilled into the pixels at their rims.
+vec3 surfaceAlbedo(Material material) {
+    if (material.kind == MATERIAL_DIFFUSE) return material.albedo;
+    if (material.kind == MATERIAL_CONDUCTOR) {
+        vec3 eta = material.eta, k = material.k;
+        return ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
+    }
+    return vec3(1.0);
+}
+// --8<-- [end:albedo]
+
 // --8<-- [start:record]
 // Called at every surface the path meets until `settled`: a mirror or glass leaves it
 // unsettled, so the surface behind it is recorded over it.
 void recordSurface(inout SurfaceFeatures first, inout bool settled, vec3 throughput,
                    Material material, Hit hit, float travelled) {
     if (settled) return;
-    first = SurfaceFeatures(throughput * material.albedo, hit.normal, travelled, vec3(0.0));
+    first = SurfaceFeatures(throughput * surfaceAlbedo(material), hit.normal, travelled,
+                            vec3(0.0));
     settled = !isDelta(material);
 }
 // --8<-- [end:record]

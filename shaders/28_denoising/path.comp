@@ -149,7 +149,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays,
                     weight = powerHeuristic(directionPdf,
                                             environmentChance * environmentPdf(ray.direction));
                 radiance += throughput * environmentRadiance(ray.direction) * weight;
-                if (!settled) first.emitted = throughput * environmentRadiance(ray.direction);
+                if (!settled && bounce == 0) first.emitted = environmentRadiance(ray.direction);
             }
             break;
         }
@@ -172,7 +172,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays,
                 weight = powerHeuristic(directionPdf, lightPdf(hit.emitter, hit.t, cosLight));
             }
             radiance += throughput * material.emission * weight;
-            if (recordedHere) first.emitted = throughput * material.emission * weight;
+            if (recordedHere && bounce == 0) first.emitted = material.emission;
         }
         // A surface's back is black (as Mitsuba's), except glass's: a ray that meets
         // it is inside, on its way out. --depth ends the path.
