@@ -33,7 +33,7 @@ void declareDenoiseOptions(course::CommandLine& cli, DenoiseOptions& options) {
 
 Denoiser::Denoiser(course::Session& session, int width, int height,
                    const DenoiseOptions& options)
-    : options_(options), width_(width), height_(height),
+    : options_(options), stats_(session.stats()), width_(width), height_(height),
       program_(session.loadCompute("denoise.comp")),
       features_(size_t(width) * height * 3 * kVec4),
       reflected_(size_t(width) * height * kVec4),
@@ -69,6 +69,8 @@ void Denoiser::dispatch(int stage, unsigned samples, unsigned step) {
 // --8<-- [start:run]
 void Denoiser::run(unsigned samples) {
     if (!enabled() || samples == 0) return;
+    course::GpuTimer timer;
+    timer.begin();
     dispatch(STAGE_GATHER, samples);  // the means and their variance, into filteredOut_
     std::swap(filtered_, filteredOut_);
     const int passes = options_.filter == "box" ? 1 : options_.passes;
@@ -78,6 +80,8 @@ void Denoiser::run(unsigned samples) {
     }
     dispatch(STAGE_FINISH, samples);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    timer.end();
+    stats_.set("denoise_ms", timer.milliseconds());
 }
 // --8<-- [end:run]
 

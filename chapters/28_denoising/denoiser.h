@@ -6,6 +6,7 @@
 #include "course/cli.h"
 #include "course/gpu_buffer.h"
 #include "course/session.h"
+#include "course/stats.h"
 #include "shared.h"  // gpu::DenoiseParameters, FILTER_*
 
 // What a dispatch writes that the next must see: buffers, and texels through image units.
@@ -31,7 +32,8 @@ public:
     const course::ImageBuffer& picture(const course::ImageBuffer& pathTraced) const {
         return enabled() ? denoised_ : pathTraced;
     }
-    // Filters the means of `samples` samples into picture().
+    // Filters the means of `samples` samples into picture(); its GPU time goes to the
+    // statistics as denoise_ms (the bench weighs it in samples of the path tracer).
     void run(unsigned samples);
     // --aux-out PREFIX: PREFIX_albedo.pfm, _normal.pfm (0.5 + 0.5 n), _depth.pfm and
     // _variance.pfm (of the illumination's luminance), each printed.
@@ -41,6 +43,7 @@ private:
     void dispatch(int stage, unsigned samples, unsigned step = 1);
 
     DenoiseOptions options_;
+    course::Stats& stats_;
     int width_, height_;
     course::ShaderProgram& program_;
     course::GpuBuffer features_, reflected_, filtered_, filteredOut_;

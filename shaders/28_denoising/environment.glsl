@@ -53,7 +53,6 @@ uint conditionalStart(uint row) {  // where a row's conditional CDF starts
 }
 
 float pixelPdf(uvec2 pixel, float v) {
-    // BEGIN SOLUTION the pixel's chance from the two tables, per unit of u and v, per steradian
     float rowChance = environmentCdf[pixel.y + 1u] - environmentCdf[pixel.y];
     uint start = conditionalStart(pixel.y);
     float columnChance = environmentCdf[start + pixel.x + 1u] - environmentCdf[start + pixel.x];
@@ -61,8 +60,6 @@ float pixelPdf(uvec2 pixel, float v) {
     if (sinTheta <= 0.0) return 0.0;
     float perUv = rowChance * columnChance * float(environmentWidth * environmentHeight);
     return perUv / (2.0 * PI * PI * sinTheta);
-    // STUB: return 1.0 / (4.0 * PI);  // uniform over the sphere: not what the tables pick
-    // END SOLUTION
 }
 
 float environmentPdf(vec3 direction) {
@@ -75,7 +72,6 @@ float environmentPdf(vec3 direction) {
 // The step of a CDF (count + 1 numbers from `start`) that u falls in, by binary search,
 // and where in it: (the step's index, the fraction of the way through it).
 vec2 findStep(uint start, uint count, float u) {
-    // BEGIN SOLUTION binary search for the last entry <= u, then how far u is into its step
     uint low = 0u, high = count;  // the step is in [low, high)
     while (high - low > 1u) {
         uint middle = (low + high) / 2u;
@@ -84,8 +80,6 @@ vec2 findStep(uint start, uint count, float u) {
     float below = environmentCdf[start + low], above = environmentCdf[start + low + 1u];
     float along = above > below ? (u - below) / (above - below) : 0.5;
     return vec2(float(low), clamp(along, 0.0, 1.0));
-    // STUB: return vec2(floor(u * float(count)), fract(u * float(count)));  // equal steps
-    // END SOLUTION
 }
 
 // A direction towards the environment, chosen in proportion to its pixels' weights:
