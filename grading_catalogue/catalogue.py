@@ -1239,3 +1239,62 @@ CHAPTER_26 = [
 ]
 
 CATALOGUE["26"] = CHAPTER_26
+
+
+# ---------------------------------------------------------------- chapter 27
+
+I = "27_motion"
+INSTANT = "    pathTime = random01(random);\n"
+MOVED_BACK = "    offset -= pathTime * placed.objectMotion.xyz;\n"
+
+CHAPTER_27 = [
+    Variant(I, "the instant counted from the shutter's closing", True, (
+        Edit("shaders/path.comp", INSTANT, "    pathTime = 1.0 - random01(random);\n"),)),
+    Variant(I, "the instant half an interval on, wrapped round", True, (
+        Edit("shaders/path.comp", INSTANT,
+             "    pathTime = fract(random01(random) + 0.5);\n"),)),
+    Variant(I, "the motion taken off the mapped origin", True, (
+        Edit("shaders/instances.glsl", MOVED_BACK, ""),
+        Edit("shaders/instances.glsl",
+             "    return Ray(ray.origin * transposed + offset, ray.direction * transposed);\n",
+             "    vec3 origin = ray.origin * transposed + offset;\n"
+             "    return Ray(origin - pathTime * placed.objectMotion.xyz,\n"
+             "               ray.direction * transposed);\n"),)),
+
+    Variant(I, "every path at the shutter's opening", False, (
+        Edit("shaders/path.comp", INSTANT, "    random01(random);\n"),),
+        explanation=("Without an instant of its own each path sees the instances where "
+                     "they stand when the shutter opens: no blur."),
+        section="Each path at its own instant"),
+    Variant(I, "the object's space moved the wrong way", False, (
+        Edit("shaders/instances.glsl", MOVED_BACK,
+             "    offset += pathTime * placed.objectMotion.xyz;\n"),),
+        explanation=("An instance that moves forward is found by moving the ray back: "
+                     "the object's space goes the other way."),
+        section="Each path at its own instant"),
+    Variant(I, "instants beyond the shutter's closing", False, (
+        Edit("shaders/path.comp", INSTANT, "    pathTime = 2.0 * random01(random);\n"),),
+        explanation=("An instant is a share of the interval, 0 to 1: beyond it instances "
+                     "leave their swept boxes."),
+        section="Each path at its own instant"),
+    # The host's parts: the motion in the world's units handed to the object's space,
+    # and the top level's boxes not swept.
+    Variant(I, "the motion left in the world's units", False, (
+        Edit("chapters/instances.cpp",
+             "            placed.objectMotion = glm::vec4(glm::mat3(objectFromWorld) * "
+             "instance.motion, 0.0f);\n",
+             "            placed.objectMotion = glm::vec4(instance.motion, 0.0f);\n"),),
+        explanation=("The motion must be mapped into the object's space by M, or a scaled "
+                     "instance moves too far."),
+        section="Moving in the object's space"),
+    Variant(I, "the top level's boxes not swept", False, (
+        Edit("chapters/instances.cpp",
+             "            placedLow = glm::min(placedLow, placedLow + instance.motion);\n"
+             "            placedHigh = glm::max(placedHigh, placedHigh + instance.motion);\n",
+             ""),),
+        explanation=("A moving instance's box must hold its whole way over the shutter, or "
+                     "rays miss it."),
+        section="Boxes swept over the interval"),
+]
+
+CATALOGUE["27"] = CHAPTER_27

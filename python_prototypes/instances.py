@@ -219,6 +219,22 @@ def twisted(triangles, amount) -> np.ndarray:
     return turned.reshape(triangles.shape)
 
 
+def twisted_about_middle(points, vectors, degrees):
+    """Chapter 27's twist (refit.cpp's twistObjects): points (n, 3) turned about the
+    upright line through the middle of their box, by `degrees` at its top and none at
+    its bottom, evenly in between; vectors (n, 3), one a point (its normal), turned
+    with it. Returns (points, vectors)."""
+    points, vectors = np.asarray(points, np.float64), np.asarray(vectors, np.float64)
+    low, high = points.min(axis=0), points.max(axis=0)
+    middle = (low + high) / 2
+    angle = np.radians(degrees) * (points[:, 1] - low[1]) / max(high[1] - low[1], 1e-30)
+    c, s = np.cos(angle), np.sin(angle)
+
+    def turn(v):
+        return np.stack([c * v[:, 0] + s * v[:, 2], v[:, 1], -s * v[:, 0] + c * v[:, 2]], 1)
+    return turn(points - middle) + middle, turn(vectors)
+
+
 def box_entry(lower, upper, origins, directions, t_far):
     """Whether each ray enters the box [lower, upper] before t_far (slab test)."""
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -201,7 +201,12 @@ def mitsuba_envmap(mi, environment: scene_io.Environment) -> dict:
 def mitsuba_scene_dict(mi, scene: scene_io.Scene, width: int, height: int, bounces: int,
                        spp: int = 16, work_folder: Path | None = None) -> dict:
     """A Mitsuba scene dictionary for our scene. Triangles are written as OBJ files into
-    work_folder (needed only when the scene has `triangle` lines)."""
+    work_folder (needed only when the scene has `triangle` lines). Mitsuba 3 draws
+    stills: a scene whose instances move is drawn at an instant (Scene.at_instant), and
+    a blurred picture is the mean of stills over the shutter."""
+    if scene.moves():
+        raise ValueError(f"{scene.path}: instances move; Mitsuba draws a still: "
+                         "scene.at_instant(s)")
     T = mi.ScalarTransform4f
     camera = scene.camera
     eye = np.asarray(camera.eye, dtype=np.float64)

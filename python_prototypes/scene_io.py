@@ -28,6 +28,7 @@ far: a scene with one needs no emitter; environment_map.py looks its radiance up
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
@@ -281,6 +282,24 @@ class Scene:
 
     def emitters(self):
         return [shape for _, _, shape in self.shapes() if self.materials[shape.material].emits]
+
+    def moves(self) -> bool:
+        """Whether an instance moves while the shutter is open (`moving X Y Z`)."""
+        return any(any(instance.motion) for instance in self.instances)
+
+    def at_instant(self, instant: float) -> "Scene":
+        """The scene at one instant of the shutter (0: it opens, 1: it closes), as a
+        renderer without motion blur draws it: each moving instance gets the step
+        `translate` by that share of its motion (the last step: a move in the world) and
+        moves no more; the camera's shutter is taken out."""
+        still = dataclasses.replace(
+            self, camera=dataclasses.replace(self.camera, shutter_open=0.0, shutter_close=0.0),
+            instances=[dataclasses.replace(
+                instance, motion=(0.0, 0.0, 0.0),
+                steps=instance.steps + ([("translate", tuple(instant * m for m in instance.motion))]
+                                        if any(instance.motion) else []))
+                for instance in self.instances])
+        return still
 
 
 # ---------------------------------------------------------------------------------------

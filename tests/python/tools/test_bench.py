@@ -548,3 +548,30 @@ def test_the_instances_bench_says_which_target_it_missed(tiny_instances_bench):
     missed = [text for text, ok in bench_instances.checks(report) if not ok]
     assert any(text.startswith("primary rays through the field: 0.33x") for text in missed)
     assert any(text.startswith("memory of the field: 3.00x") for text in missed)
+
+
+# ---------------------------------------------------------------- chapter 27's refit bench
+
+def test_the_refit_bench_times_both_trees_and_writes_the_pages_only_when_asked(tmp_path):
+    from course_tools.bench import refit as bench_refit
+    program = BIN / chapter_name("27")
+    if not program.exists():
+        pytest.skip(f"{program.name} is not built")
+    pages = page_copies(bench_refit.PAGES, tmp_path)
+    before = {n: page.read_text() for n, (page, _, _) in pages.items()}
+    settings = bench_refit.Settings(size=16, repeat=2, twists=(90.0,))
+    report = bench_refit.bench(program, ROOT / "build" / "assets" / "meshes", settings,
+                               tmp_path / "scratch")
+    bench_refit.publish(report, update_book=False, pages=pages, out_folder=tmp_path / "out")
+    assert all(page.read_text() == before[n] for n, (page, _, _) in pages.items())
+    (row,) = report["rows"]
+    # The chapter's own counts: a quarter turn makes the refitted tree dearer than a
+    # fresh one (test_27_motion.py checks by how much).
+    assert row["refitted_sah_cost"] > row["rebuilt_sah_cost"] > 0
+    for key in ("refit_ms", "rebuild_ms", "refitted_primary", "fresh_primary",
+                "refitted_diffuse", "fresh_diffuse"):
+        assert set(row[key]) == SUMMARY_KEYS and len(row[key]["runs"]) == 2
+    bench_refit.publish(report, update_book=True, pages=pages, out_folder=tmp_path / "out")
+    for page, _, _ in pages.values():
+        assert bench_refit.page_table(report) in page.read_text()
+        assert "| 90° | 33.40 | 27.64 | 1.21 |" in page.read_text()

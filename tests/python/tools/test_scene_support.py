@@ -56,12 +56,13 @@ def test_the_features_come_in_the_order_the_chapters_teach_them():
               for feature, (read, chapter) in support[name].items() if not read and chapter}
     assert firsts == {"metals": "chapter 15", "glass": "chapter 16", "lens": "chapter 17",
                       "textures": "chapter 17", "environment": "chapter 18",
-                      "media": "chapter 24", "instances": "chapter 26"}
+                      "media": "chapter 24", "instances": "chapter 26",
+                      "motion": "chapter 27"}
     numbered = [name for name in chapters.numbered(ROOT) if name in SCENE_READERS]
     found = manifests.load(ROOT, numbered)
     for earlier, later in zip(numbered, numbered[1:]):
         # A chapter reads what the one it was copied from reads: the one before it, or
-        # its base when it branches (chapter 24 and 26 from 18).
+        # its base when it branches (chapters 24 and 26 from 18, 27 from 26).
         base = found[later].base or earlier
         assert set(support[base]) and all(
             support[later][f][0] for f, (read, _) in support[base].items() if read), later

@@ -120,6 +120,11 @@ def cmd_bench(args):
         settings = bench_instances.Settings(repeat=args.repeat)
         status |= bench_instances.main(binary(find_chapter("26")), BUILD / "assets" / "meshes",
                                        settings, update_book=args.update_book)
+        from course_tools.bench import refit as bench_refit  # chapter 27's twisting teapot
+        build([find_chapter("27")])
+        status |= bench_refit.main(binary(find_chapter("27")), BUILD / "assets" / "meshes",
+                                   bench_refit.Settings(repeat=args.repeat),
+                                   update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         from course_tools.bench import grading as bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \

@@ -100,7 +100,8 @@ def bench_options(parser: argparse.ArgumentParser):
         "speed: chapters 19 to 21 (specialisation, memory paths, the tree's price) against "
         "chapter 18; wavefront: chapter 22's megakernel, one sample a dispatch and "
         "regenerating, against chapter 23's wavefront; instances: chapter 26's field of "
-        "10 000 teapots against one; grading: one submission of each chapter on one core)")
+        "10 000 teapots against one, and chapter 27's twisting teapot, refitted against "
+        "rebuilt; grading: one submission of each chapter on one core)")
     parser.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each figure (gradings per chapter): the median and "

@@ -408,6 +408,18 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the instances' normals", 3, [*SMALL, "--view", "normals"], "image",
                   "after_due_date"),
     ],
+    # Chapter 27's exercises give each path its own instant of the shutter and move the
+    # object's space back by that share of the instance's motion. Wrong, the moving
+    # instances stand still, go the wrong way or too far: the blurred room judged by
+    # statistics (direct light, then the whole path), and after the due date the smear
+    # itself, the albedo one ray through each pixel's centre sees at random instants.
+    "27": [
+        GradeTest("the moving balls, direct light", 4, [*TINY, "--direct"], "statistical",
+                  sampling=PATH_SAMPLING),
+        GradeTest("the moving balls", 3, TINY, "statistical", sampling=PATH_SAMPLING),
+        GradeTest("the smears", 3, [*TINY, "--view", "albedo"], "statistical",
+                  "after_due_date", sampling=PATH_SAMPLING),
+    ],
     # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
     # writes is the pass's end: the pixel's state from the previous pass's textures,
     # one more sample, the new state to this pass's outputs. Graded by statistics, as
