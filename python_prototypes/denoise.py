@@ -31,6 +31,7 @@ flat picture stays flat, and block means stay the true picture's (checked).
 from __future__ import annotations
 
 import argparse
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,11 +51,12 @@ class Features:
     normal: np.ndarray
     depth: np.ndarray
 
+    @functools.cached_property
     def depth_gradient(self) -> tuple[np.ndarray, np.ndarray]:
         """How depth changes from a pixel to the next along x and along y on the same
         surface (a floor seen at a grazing angle changes depth quickly without any
         edge): of the differences to the two neighbours on an axis, the smaller, since
-        at a silhouette one of them is the jump."""
+        at a silhouette one of them is the jump. Worked out once: every tap asks."""
         z = np.pad(self.depth, 1, mode="reflect")  # at the border, its one difference
         centre = z[1:-1, 1:-1]
 
@@ -68,8 +70,8 @@ class Features:
 @dataclass(frozen=True)
 class Sigmas:
     """How quickly each weight falls off (SVGF's choices): depth off the pixel's plane
-    in units of the plane's change across the tap's distance, the normal's cosine raised to a power,
-    luminance in standard deviations of its noise."""
+    in units of the plane's change across the tap's distance, the normal's cosine
+    raised to a power, luminance in standard deviations of its noise."""
     depth: float = 1.0
     normal: float = 128.0
     luminance: float = 4.0
@@ -134,7 +136,7 @@ def edge_weights(features: Features, dy: int, dx: int, sigmas: Sigmas,
     the illumination's luminance and its noise (standard deviation) are given, alike
     light."""
     depth_q, _ = shifted(features.depth, dy, dx)
-    along_x, along_y = features.depth_gradient()
+    along_x, along_y = features.depth_gradient
     # On the pixel's own plane the tap's depth is the pixel's plus the gradient times
     # the offset: what differs from that, in units of the plane's change over the
     # tap's distance, is an edge.

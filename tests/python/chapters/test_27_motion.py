@@ -106,6 +106,7 @@ def assert_smear_as_the_closed_form(image: np.ndarray, spp: int):
     assert np.all(difference < SIGMAS * error + 2e-3), np.max(difference - SIGMAS * error)
 
 
+@pytest.mark.windows
 def test_a_moving_ball_smears_as_the_closed_form(tmp_path):
     assert_smear_as_the_closed_form(smear(tmp_path, "smear", 256), 256)
 

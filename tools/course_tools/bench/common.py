@@ -191,8 +191,8 @@ class QuietWatch:
         busy = busy_cpu_seconds()
         others = None
         if busy is not None and self.busy_start is not None and wall > 0:
-            other_seconds = (busy - self.busy_start) - (own_cpu_seconds() - self.own_start)
-            others = max(other_seconds, 0.0) / wall  # cores' worth, on average
+            others = others_cores(busy - self.busy_start, own_cpu_seconds() - self.own_start,
+                                  wall)
         report = {**self.report_so_far(), "load_end": os.getloadavg()[0],
                   "other_processes_cores": others,
                   "quiet": is_quiet(self.load_start, others, self.cores,
@@ -218,8 +218,13 @@ def others_cores_over(seconds: float) -> float | None:
     if busy is None:
         return None
     time.sleep(seconds)
-    other_seconds = (busy_cpu_seconds() - busy) - (own_cpu_seconds() - own)
-    return max(other_seconds, 0.0) / seconds
+    return others_cores(busy_cpu_seconds() - busy, own_cpu_seconds() - own, seconds)
+
+
+def others_cores(busy_seconds: float, own_seconds: float, wall: float) -> float:
+    """Cores' worth of CPU, on average over `wall` seconds, that processes other than
+    this one and its finished children used: all busy time less our own."""
+    return max(busy_seconds - own_seconds, 0.0) / wall
 
 
 def quiet_words(quiet: dict) -> str:
