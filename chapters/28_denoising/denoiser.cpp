@@ -1,5 +1,6 @@
 #include "denoiser.h"
 
+#include <cmath>
 #include <cstdio>
 #include <utility>
 #include <vector>
@@ -25,7 +26,8 @@ void declareDenoiseOptions(course::CommandLine& cli, DenoiseOptions& options) {
     cli.option("--denoise-passes", "N", "filtering passes, their taps 1, 2, 4, ... pixels "
                "apart (box: always one)", &options.passes, 1, 10);
     cli.option("--aux-out", "PREFIX", "also write the denoiser's feature buffers: "
-             "PREFIX_albedo.pfm, _normal.pfm, _depth.pfm, _variance.pfm", &options.auxOut);
+             "PREFIX_albedo.pfm, _normal.pfm, _depth.pfm, _depth_spread.pfm, _emitted.pfm, "
+             "_illumination.pfm, _variance.pfm", &options.auxOut);
     options.weights.depthSigma = 1.0f;
     options.weights.normalPower = 128.0f;
     options.weights.luminanceSigma = 2.0f;
@@ -103,5 +105,8 @@ void Denoiser::writeAuxiliary(unsigned samples) {
     write("albedo", [&](size_t i, int c) { return features[12 * i + c]; });
     write("normal", [&](size_t i, int c) { return 0.5f + 0.5f * features[12 * i + 4 + c]; });
     write("depth", [&](size_t i, int) { return features[12 * i + 3]; });
+    write("depth_spread", [&](size_t i, int) { return std::sqrt(features[12 * i + 7]); });
+    write("emitted", [&](size_t i, int c) { return features[12 * i + 8 + c]; });
+    write("illumination", [&](size_t i, int c) { return gathered[4 * i + c]; });
     write("variance", [&](size_t i, int) { return gathered[4 * i + 3]; });
 }

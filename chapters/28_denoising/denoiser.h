@@ -35,8 +35,9 @@ public:
     // Filters the means of `samples` samples into picture(); its GPU time goes to the
     // statistics as denoise_ms (the bench weighs it in samples of the path tracer).
     void run(unsigned samples);
-    // --aux-out PREFIX: PREFIX_albedo.pfm, _normal.pfm (0.5 + 0.5 n), _depth.pfm and
-    // _variance.pfm (of the illumination's luminance), each printed.
+    // --aux-out PREFIX: what the filter starts from, each PFM printed: PREFIX_albedo,
+    // _normal (0.5 + 0.5 n), _depth, _depth_spread, _emitted, _illumination and
+    // _variance (of the illumination's luminance).
     void writeAuxiliary(unsigned samples);
 
 private:

@@ -14,7 +14,7 @@ layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 struct Features {
     vec4 albedoDepth;  // albedo (rgb), depth along the path (w)
     vec4 normal;       // the mean of the samples' normals (shorter than 1 at an edge),
-                       // the mean of their depths squared (w)
+                       // the variance of their depths (w)
     vec4 emitted;      // the light the surface sends the camera itself (rgb)
 };
 layout(std430, binding = FEATURES_BINDING) readonly buffer FeatureBuffer {
@@ -77,22 +77,27 @@ vec2 depthGradient(ivec2 pixel) {
 // --8<-- [end:gradient]
 
 // --8<-- [start:weights]
-// How much the tap at `offset` may count, from 0 to 1: its depth against the pixel's
-// plane, its normal against the pixel's, and (the a-trous filter) its luminance
-// against the pixel's, in units of the noise of their difference. That noise is the two
-// pixels' together, so the weight is the same seen from either side: a pixel lifted by
-// one lucky sample (its variance large too) is let into its neighbours as far as it lets
-// them in, and its light is spread, not lost (with the pixel's noise alone, the picture
-// darkened by 1.3%, and dim corners lit only by bounces by 15%).
-float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalDepth2, float light,
+// How much the tap at `offset` may count, from 0 to 1:
+// - depth: the tap's against the pixel's plane, in units of the plane's change over the
+//   tap's distance, plus the spread of the pixel's own depths (a pixel whose samples
+//   meet two surfaces lies on neither's plane, and takes taps from both);
+// - normal: how well the tap's normal agrees with the pixel's mean normal, against how
+//   well the pixel's own samples do (|mean|^2; 1 where they all agree), to a power;
+// - luminance (the a-trous filter): the tap's against the pixel's, in units of the
+//   noise of their difference. That noise is the two pixels' together, so the weight is
+//   the same seen from either side: a pixel lifted by one lucky sample (its variance
+//   large too) is let into its neighbours as far as it lets them in, and its light is
+//   spread, not lost (with the pixel's noise alone, the Cornell box darkened by 1.3%, and
+//   faces lit only by bounces by 15%).
+float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, float light,
                  float lightVariance, vec4 tap) {
     ivec2 other = pixel + offset;
     float depth = depthAt(pixel);
-    float spread = sqrt(max(normalDepth2.w - depth * depth, 0.0));
+    float spread = sqrt(normalSpread.w);
     float offPlane = abs(depthAt(other) - depth - dot(gradient, vec2(offset)));
     float scale = depthSigma * (length(gradient) * length(vec2(offset)) + spread);
     float weight = exp(-offPlane / (scale + EPSILON));
-    vec3 mean = normalDepth2.xyz, otherNormal = features[indexOf(other)].normal.xyz;
+    vec3 mean = normalSpread.xyz, otherNormal = features[indexOf(other)].normal.xyz;
     float agreement = dot(mean, otherNormal) /
                       max(dot(mean, mean) * length(otherNormal), EPSILON);
     weight *= pow(clamp(agreement, 0.0, 1.0), normalPower);
@@ -143,7 +148,7 @@ float lightAround(ivec2 pixel) {
 vec4 filterPass(ivec2 pixel) {
     uint index = indexOf(pixel);
     vec2 gradient = depthGradient(pixel);
-    vec4 normalDepth2 = features[index].normal;
+    vec4 normalSpread = features[index].normal;
     float light = filterKind == FILTER_ATROUS ? lightAround(pixel) : 0.0;
     float lightVariance = filterKind == FILTER_ATROUS ? varianceAround(pixel) : 0.0;
     vec3 sum = vec3(0.0);
@@ -155,7 +160,7 @@ vec4 filterPass(ivec2 pixel) {
             vec4 tap = filtered[indexOf(pixel + offset)];
             float w = filterKind == FILTER_BOX ? 1.0 : KERNEL[x + 2] * KERNEL[y + 2];
             if (filterKind >= FILTER_FEATURES)
-                w *= edgeWeight(pixel, offset, gradient, normalDepth2, light, lightVariance,
+                w *= edgeWeight(pixel, offset, gradient, normalSpread, light, lightVariance,
                                 tap);
             sum += w * tap.rgb;
             variance += w * w * tap.w;

@@ -55,16 +55,23 @@ vec4 texelAt(bool features, int texel) {
 }
 
 // --8<-- [start:accumulate_features]
+// The running means, and the spread of the depths: their variance kept as Welford's
+// running mean of (d - old mean)(d - new mean), which stays exact where E[d^2] - E[d]^2
+// in floats would be rounding noise (d^2 near 16, its last bit 2e-6).
 void accumulateFeatures(uint index, SurfaceFeatures first, vec3 radiance) {
     vec3 reflected = radiance - first.emitted;
     float light = luminance(reflected);
     int at = int(index);
-    float depth = first.depth;  // and its square, for the spread of a pixel's depths
-    vec4 texels[3] = vec4[3](vec4(first.albedo, depth), vec4(first.normal, depth * depth),
-                             vec4(first.emitted, 0.0));
-    for (int i = 0; i < 3; ++i)
-        imageStore(featureTexels, 3 * at + i, floatBitsToUint(
-            meanWith(texelAt(true, 3 * at + i), texels[i])));
+    vec4 surface = texelAt(true, 3 * at), normalSpread = texelAt(true, 3 * at + 1);
+    vec4 newSurface = meanWith(surface, vec4(first.albedo, first.depth));
+    float depthVariance = sampleIndex == 0u ? 0.0 : normalSpread.w +
+        ((first.depth - surface.w) * (first.depth - newSurface.w) - normalSpread.w) /
+        float(sampleIndex + 1u);
+    vec3 normal = meanWith(normalSpread, vec4(first.normal, 0.0)).xyz;
+    imageStore(featureTexels, 3 * at, floatBitsToUint(newSurface));
+    imageStore(featureTexels, 3 * at + 1, floatBitsToUint(vec4(normal, depthVariance)));
+    imageStore(featureTexels, 3 * at + 2, floatBitsToUint(
+        meanWith(texelAt(true, 3 * at + 2), vec4(first.emitted, 0.0))));
     imageStore(reflectedTexels, at, floatBitsToUint(
         meanWith(texelAt(false, at), vec4(reflected, light * light))));
 }
