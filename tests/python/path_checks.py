@@ -12,11 +12,8 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 
 from __future__ import annotations
 
-import dataclasses
-import io
 import json
 import math
-import os
 import re
 import shutil
 import subprocess
@@ -28,9 +25,8 @@ import pytest
 from conftest import (RUNNER, ROOT, chapter_name, copy_shaders, program_path, read_pfm,
                       regions_agreeing, run_chapter)
 
-from course_tools import python_imports
 from course_tools.grading import grader
-from course_tools import reference_cache
+from course_tools import mitsuba_cache, reference_cache
 
 SCENES = ROOT / "tests" / "data" / "scenes"
 SIGMAS = 4.5
@@ -151,60 +147,12 @@ def assert_agrees_with_mitsuba(ours: np.ndarray, spp: int = 512,
                             mesh_folders, most_relative)
 
 
-def scene_fingerprint(value) -> str:
-    """The parsed scene as text, with each file it reads (meshes, textures, skies) as
-    the digest of its bytes instead of its path, so that the same scene in another
-    clone or folder has the same fingerprint; where a line was read is left out."""
-    if dataclasses.is_dataclass(value):
-        fields = {f.name: getattr(value, f.name) for f in dataclasses.fields(value)
-                  if f.name not in ("line", "written_path")}
-        if type(value).__name__ == "Scene":
-            fields.pop("path")  # the file itself: what it says is in the fields
-        return f"{type(value).__name__}({scene_fingerprint(fields)})"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{k!r}: {scene_fingerprint(v)}"
-                               for k, v in value.items()) + "}"
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(scene_fingerprint(v) for v in value) + "]"
-    if isinstance(value, Path):
-        return f"file {reference_cache.file_digest(value)}"
-    return repr(value)
-
-
-def translating_sources() -> list[Path]:
-    """mitsuba_reference.py and every python_prototypes module it imports, at any depth
-    (python_imports.imported_modules, which finds a starter's modules the same way), sorted:
-    what turns a scene into Mitsuba's."""
-    module = ROOT / "python_prototypes" / "mitsuba_reference.py"
-    return sorted({module, *python_imports.imported_modules(module, [ROOT])})
-
-
 def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: int = 0,
                  variant: str = "scalar_rgb") -> np.ndarray:
-    """Mitsuba 3's render (mitsuba_reference.render_mitsuba: linear RGB, row 0 at the
-    top), kept in the per-user reference cache (tools/course_tools/reference_cache.py) under what
-    makes it: the scene with its files' bytes, the size, samples, depth, seed, variant,
-    Mitsuba's and Dr.Jit's versions, the cores, and the prototypes that translate it
-    (translating_sources: only those, so that a new prototype or figure script beside
-    them keeps every kept render)."""
+    """Mitsuba 3's render, kept once made (course_tools/mitsuba_cache.py); the check is
+    skipped where Mitsuba is not installed."""
     pytest.importorskip("mitsuba")
-    import drjit
-    import mitsuba
-    from python_prototypes import mitsuba_reference
-    name = reference_cache.key(
-        "mitsuba render", mitsuba.__version__, drjit.__version__, variant, width, height,
-        spp, bounces, seed, os.cpu_count(), scene_fingerprint(scene),
-        *translating_sources()) + ".npy"
-    kept = reference_cache.fetch(name)
-    if kept is not None:
-        return np.load(io.BytesIO(kept), allow_pickle=False)
-    image, _ = mitsuba_reference.render_mitsuba(scene, width, height, spp, bounces,
-                                                seed=seed, variant=variant)
-    image = np.ascontiguousarray(np.asarray(image, dtype=np.float32)[..., :3])
-    payload = io.BytesIO()
-    np.save(payload, image, allow_pickle=False)
-    reference_cache.store(name, payload.getvalue())
-    return image
+    return mitsuba_cache.kept_render(scene, width, height, spp, bounces, seed, variant)
 
 
 def close_up(scene_file: Path, name: str, folder: Path, size: int, mesh_folders=(),

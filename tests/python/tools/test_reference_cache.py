@@ -343,8 +343,8 @@ def test_a_mitsuba_render_is_keyed_by_the_prototypes_that_translate_its_scene():
     """kept_mitsuba's key holds the prototypes mitsuba_reference imports, at any depth
     (a lazy import inside a function too), and not the others: a new prototype or
     figure script keeps every kept Mitsuba render."""
-    import path_checks
-    names = {p.relative_to(ROOT).as_posix() for p in path_checks.translating_sources()}
+    from course_tools import mitsuba_cache
+    names = {p.relative_to(ROOT).as_posix() for p in mitsuba_cache.translating_sources()}
     assert {"python_prototypes/mitsuba_reference.py", "python_prototypes/scene_io.py",
             "python_prototypes/thin_lens.py",  # imported inside a function
             "python_prototypes/pfm.py"} <= names

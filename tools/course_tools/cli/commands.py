@@ -125,6 +125,12 @@ def cmd_bench(args):
         status |= bench_refit.main(binary(find_chapter("27")), BUILD / "assets" / "meshes",
                                    bench_refit.Settings(repeat=args.repeat),
                                    update_book=args.update_book)
+    if args.which in ("all", "denoise"):
+        from course_tools.bench import denoise as bench_denoise
+        build([find_chapter("28")])
+        status |= bench_denoise.main(binary(find_chapter("28")), BUILD / "assets" / "meshes",
+                                     bench_denoise.Settings(repeat=args.repeat),
+                                     update_book=args.update_book)
     if args.which == "grading":  # minutes on one core: asked for by name only
         from course_tools.bench import grading as bench_grading
         graded = [find_chapter(c) for c in args.chapters] if args.chapters else \

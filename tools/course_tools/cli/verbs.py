@@ -92,16 +92,18 @@ def book_options(parser: argparse.ArgumentParser):
 def bench_options(parser: argparse.ArgumentParser):
     parser.add_argument(
         "which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "wavefront", "instances",
-                            "grading"],
-        default="all", help="which benchmark (default: mitsuba, bvh, speed, wavefront and "
-        "instances; "
+                            "denoise", "grading"],
+        default="all", help="which benchmark (default: mitsuba, bvh, speed, wavefront, "
+        "instances and denoise; "
         "mitsuba: the Cornell box through chapter 12 and the newest chapter, the teapot "
         "through the newest chapter with a BVH, ours and Mitsuba's runs taking turns; "
         "speed: chapters 19 to 21 (specialisation, memory paths, the tree's price) against "
         "chapter 18; wavefront: chapter 22's megakernel, one sample a dispatch and "
         "regenerating, against chapter 23's wavefront; instances: chapter 26's field of "
         "10 000 teapots against one, and chapter 27's twisting teapot, refitted against "
-        "rebuilt; grading: one submission of each chapter on one core)")
+        "rebuilt; denoise: chapter 28's filter against the raw picture and Open Image Denoise "
+        "on four scenes, and its cost in samples a pixel; grading: one submission of each "
+        "chapter on one core)")
     parser.add_argument("--chapters", nargs="*", help="grading: only these chapters")
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each figure (gradings per chapter): the median and "
