@@ -10,8 +10,9 @@ steps: the still life true, at 8 samples a pixel, and filtered five ways (box,
 weights: around one pixel of the floor beside the box, how much each neighbour counts:
   by depth, by normal, by light, and all three together;
 passes: the error against the number of a-trous passes at 4, 8 and 16 samples a pixel,
-  against the raw picture's at 64; and the darkening the luminance weight costs, against
-  the samples a pixel."""
+  against the raw picture's at 64; and the light the filter keeps against the samples a
+  pixel, with the luminance weight judged by the pixel's own noise (SVGF's form, which
+  darkens as 1/spp) and by both pixels' noise (the chapter's)."""
 
 from __future__ import annotations
 
@@ -39,7 +40,7 @@ def draw_steps(figure):
                 ("box blur, 5 x 5", denoise.box_blur(colour, 2)),
                 ("Gaussian, sigma 2", denoise.gaussian_blur(colour, 2.0)),
                 ("cross-bilateral on the features", bilateral),
-                ("a-trous, 5 passes, light weighed",
+                ("a-trous, 3 passes, light weighed",
                  denoise.atrous(colour, variance, features))]
     for index, (title, image) in enumerate(pictures):
         axes = figure.add_subplot(2, 3, index + 1)
@@ -57,8 +58,8 @@ def draw_weights(figure):
     h, w = features.depth.shape
     centre = (int(0.72 * h), int(0.5 * w))  # the floor, just left of the box
     radius = 12
-    light = denoise.luminance(denoise.demodulate(colour, features.albedo))
-    noise = np.sqrt(variance)
+    taps = denoise.luminance(denoise.demodulate(colour, features.albedo))
+    light, light_variance = denoise.around(taps), denoise.around(variance)
     parts = {name: np.zeros((2 * radius + 1, 2 * radius + 1))
              for name in ("depth", "normal", "light", "all")}
     for dy in range(-radius, radius + 1):
@@ -66,8 +67,8 @@ def draw_weights(figure):
             depth_only = denoise.edge_weights(features, dy, dx,
                                               denoise.Sigmas(normal=0.0))[centre]
             both = denoise.edge_weights(features, dy, dx, denoise.Sigmas())[centre]
-            all_three = denoise.edge_weights(features, dy, dx, denoise.Sigmas(),
-                                             light, noise)[centre]
+            all_three = denoise.edge_weights(features, dy, dx, denoise.Sigmas(), light,
+                                             light_variance, taps, variance)[centre]
             parts["depth"][dy + radius, dx + radius] = depth_only
             parts["normal"][dy + radius, dx + radius] = both / max(depth_only, 1e-12)
             parts["light"][dy + radius, dx + radius] = all_three / max(both, 1e-12)
@@ -107,22 +108,24 @@ def draw_passes(figure):
     errors.set_ylabel("relative MSE against the truth")
     errors.legend()
     errors.grid(alpha=0.3)
-    darkening = figure.add_subplot(1, 2, 2)
+    light = figure.add_subplot(1, 2, 2)
     counts = [4, 8, 16, 32, 64, 128]
-    lost = []
-    for spp in counts:
-        means = [denoise.atrous(*denoise.noisy_render(scene, spp, np.random.default_rng(s)),
-                                scene.features).mean() for s in range(3)]
-        lost.append(100.0 * (1.0 - np.mean(means) / truth.mean()))
-    darkening.plot(counts, lost, marker="o", color="#c0392b", label="measured")
-    darkening.plot(counts, [lost[1] * 8 / n for n in counts], color="#888888",
-                   linestyle="--", label="proportional to 1/spp")
-    darkening.set_xscale("log", base=2)
-    darkening.set_yscale("log")
-    darkening.set_xlabel("samples a pixel")
-    darkening.set_ylabel("light lost by the luminance weight (%)")
-    darkening.legend()
-    darkening.grid(alpha=0.3)
+    for both, name, colour_name in ((False, "the pixel's own noise (SVGF)", "#c0392b"),
+                                    (True, "both pixels' noise (the chapter)", "#27ae60")):
+        sigmas = denoise.Sigmas(both_noises=both)
+        kept = []
+        for spp in counts:
+            means = [denoise.atrous(*denoise.noisy_render(scene, spp,
+                                                          np.random.default_rng(s)),
+                                    scene.features, sigmas=sigmas).mean() for s in range(3)]
+            kept.append(100.0 * (np.mean(means) / truth.mean() - 1.0))
+        light.plot(counts, kept, marker="o", color=colour_name, label=name)
+    light.axhline(0.0, color="#888888", linestyle="--")
+    light.set_xscale("log", base=2)
+    light.set_xlabel("samples a pixel")
+    light.set_ylabel("the filtered picture's light, against the truth (%)")
+    light.legend()
+    light.grid(alpha=0.3)
 
 
 def main():
