@@ -71,10 +71,10 @@ def test_every_pin_is_exact():
 def test_running_a_chapter_needs_no_test_tools():
     """A learner who only runs chapters never downloads Mitsuba, a browser or pytest."""
     run = pinned(ROOT / "requirements" / "run.txt")
-    for heavy in ("mitsuba", "drjit", "playwright", "pytest", "mkdocs"):
+    for heavy in ("mitsuba", "drjit", "playwright", "pytest", "mkdocs", "pyoidn"):
         assert heavy not in run
     grade = pinned(ROOT / "requirements" / "grade.txt")
-    for heavy in ("mitsuba", "drjit", "playwright", "mkdocs"):
+    for heavy in ("mitsuba", "drjit", "playwright", "mkdocs", "pyoidn"):
         assert heavy not in grade
     for platform in platforms.read_table().values():
         for heavy in ("chromium", "clang", "libllvm19", "xvfb", "libgtest-dev"):
