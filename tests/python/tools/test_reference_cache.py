@@ -142,7 +142,10 @@ CHANGES = {
     "the chapter's host code": lambda root: append(root / "chapters" / CHAPTER / "main.cpp"),
     "the chapter's shaders": lambda root: append(root / "shaders" / CHAPTER / "pattern.glsl"),
     "the common layer": lambda root: append(root / "common" / "session.cpp"),
-    "the build files": lambda root: append(root / "CMakeLists.txt", "# x\n"),
+    "the build files": lambda root: append(root / "CMakeLists.txt", "set(X 1)\n"),
+    "the chapter's own build line": lambda root: (root / "CMakeLists.txt").write_text(
+        (root / "CMakeLists.txt").read_text().replace(f"add_chapter({CHAPTER})",
+                                                      f"add_chapter({CHAPTER}) # x")),
     "a scene file": lambda root: append(root / "assets" / "scenes" / "cornell_box.scene",
                                         "material x albedo 1 1 1\n"),
     "a new asset": lambda root: (root / "assets" / "new.txt").write_text("x"),
@@ -159,6 +162,20 @@ def test_every_input_of_a_reference_changes_its_key(instructor_tree, change):
     assert maker(instructor_tree) == before  # the same inputs, the same key
     CHANGES[change](instructor_tree)
     assert maker(instructor_tree) != before, change
+
+
+def test_another_chapter_added_or_removed_keeps_the_key(instructor_tree):
+    """A new chapter's add_chapter line builds another program: the chapter's references
+    (and every render and figure keyed by them) stay."""
+    before = maker(instructor_tree)
+    cmake = instructor_tree / "CMakeLists.txt"
+    text = cmake.read_text()
+    assert "add_chapter(01_buffer_add)" in text
+    cmake.write_text(text.replace("add_chapter(01_buffer_add)\n", "") +
+                     "add_chapter(99_a_new_one)\n")
+    assert maker(instructor_tree) == before
+    cmake.write_text(text.replace(f"add_chapter({CHAPTER})\n", ""))
+    assert maker(instructor_tree) != before  # its own line is its build
 
 
 def test_the_renderer_and_its_settings_are_in_the_key(instructor_tree, monkeypatch):

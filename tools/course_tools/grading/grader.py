@@ -484,9 +484,24 @@ _MAKERS_LOCK = threading.Lock()
 RENDERER_VARIABLES = ("LP_", "GALLIUM_", "MESA_", "LIBGL_", "DRI_", "__GLX_", "EGL_")
 
 
+ADD_CHAPTER = re.compile(r"\s*add_chapter\(\s*([A-Za-z0-9_]+)\s*\)")
+
+
+def build_file_for(root: Path, chapter: str) -> str:
+    """The top CMakeLists.txt as it bears on one chapter: without the other chapters'
+    add_chapter lines, which build other programs, so that a new chapter leaves every
+    other chapter's references (and the renders and figures keyed by them) as they
+    were. Every other line counts."""
+    lines = (root / "CMakeLists.txt").read_text().splitlines()
+    return "\n".join(line for line in lines
+                     if not (found := ADD_CHAPTER.fullmatch(line.split("#")[0].rstrip()))
+                     or found.group(1) == chapter)
+
+
 def reference_maker(root: Path, build: Path, chapter: str) -> str:
     """A digest of everything besides the arguments that decides the solution's
-    pictures: the checkpoint's sources and shaders, the common layer, the build files,
+    pictures: the checkpoint's sources and shaders, the common layer, the build files
+    (the top CMakeLists.txt without the other chapters' lines: build_file_for),
     the assets (committed and generated; a scene as its reader reads it, without its
     comments: reference_cache.scene_as_read), the compiler and its flags, the GL that
     renders (its renderer and version strings name Mesa and LLVM) and Mesa's settings
@@ -509,8 +524,8 @@ def reference_maker(root: Path, build: Path, chapter: str) -> str:
         "grading reference", chapter,
         reference_cache.tree_digest(root / "chapters" / chapter, root / "shaders" / chapter,
                                     root / "common", root / "cmake", root / "third_party",
-                                    root / "CMakeLists.txt", root / "assets",
-                                    build / "assets", scenes_as_read=True),
+                                    root / "assets", build / "assets", scenes_as_read=True),
+        build_file_for(root, chapter),
         version, *(f"{k}={cache.get(k, '')}" for k in sorted(cache)
                    if k.startswith(("CMAKE_BUILD_TYPE", "CMAKE_CXX_FLAGS", "COURSE_"))),
         gl.get("renderer", "unknown renderer"), gl.get("gl_version", "unknown version"),
