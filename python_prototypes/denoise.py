@@ -41,6 +41,7 @@ GAUSS3 = (0.25, 0.5, 0.25)  # a 3-tap Gaussian, for the noise's own estimate
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, linear RGB
 ALBEDO_FLOOR = 0.01  # black albedo has no illumination to speak of: divide by this instead
 EPSILON = 1e-10
+SPIKE_SIGMAS = 8.0  # a spike: above its neighbours' mean by this many of their spreads
 
 
 @dataclass
@@ -180,6 +181,35 @@ def cross_bilateral(illumination: np.ndarray, features: Features, radius: int,
          edge_weights(features, dy, dx, sigmas)) for dy in offsets for dx in offsets])
 
 
+def share_spikes(illumination: np.ndarray, albedo: np.ndarray,
+                 sigmas: float = SPIKE_SIGMAS) -> np.ndarray:
+    """A lone spike (a lucky caustic) where the features set a pixel apart is spread by no
+    tap. Its colour above a cap, its eight neighbours' mean luminance plus `sigmas` of
+    their spread, is shared evenly among the pixels around it (the 3 x 3 inside the
+    picture), features or not: the chapter's gather stage. No light is lost."""
+    light = luminance(illumination)
+    sums, squares, counts, sharers = (np.zeros_like(light) for _ in range(4))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            value, inside = shifted(light, dy, dx)
+            sharers += inside
+            if (dy, dx) != (0, 0):
+                sums += value * inside
+                squares += value * value * inside
+                counts += inside
+    mean = sums / counts
+    cap = mean + sigmas * np.sqrt(np.maximum(squares / counts - mean * mean, 0.0))
+    kept = np.where(light > cap, cap / np.maximum(light, EPSILON), 1.0)
+    floored = np.maximum(albedo, ALBEDO_FLOOR)
+    excess = illumination * (1.0 - kept)[..., None] * floored
+    colour = illumination * floored - excess
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):  # what each neighbour q = p + (dy, dx) gives away, a share
+            given, inside = shifted(excess / sharers[..., None], dy, dx)
+            colour += given * inside[..., None]
+    return colour / floored
+
+
 def around(image: np.ndarray) -> np.ndarray:
     """A 3 x 3 Gaussian of the image, taps outside the picture left out."""
     return weighted_sum(image, [(dy, dx, GAUSS3[dy + 1] * GAUSS3[dx + 1])
@@ -204,8 +234,10 @@ def atrous_pass(illumination: np.ndarray, variance: np.ndarray, features: Featur
             dy, dx = i * step, j * step
             value, inside = shifted(illumination, dy, dx)
             value_variance, _ = shifted(variance, dy, dx)
-            w = B3[i + 2] * B3[j + 2] * inside * edge_weights(
-                features, dy, dx, sigmas, light, light_variance, taps, variance)
+            w = B3[i + 2] * B3[j + 2] * inside
+            if (dy, dx) != (0, 0):  # the pixel is like itself (its luminance blurred or not)
+                w = w * edge_weights(features, dy, dx, sigmas, light, light_variance, taps,
+                                     variance)
             total += w[..., None] * value
             total_variance += w * w * value_variance
             weights += w

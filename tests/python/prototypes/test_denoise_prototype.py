@@ -156,3 +156,23 @@ def test_the_luminance_weight_keeps_the_light_only_with_both_pixels_noise(scene)
     assert abs(darkening(8, denoise.Sigmas())) < 0.012
     features_only = darkening(8, denoise.Sigmas(luminance=np.inf))
     assert abs(features_only) < 0.01
+
+
+def test_a_lone_spike_is_shared_with_its_neighbours_and_no_light_is_lost():
+    """One pixel 50 times its flat, slightly noisy neighbours: its colour above the cap
+    goes, a ninth to each of the 3 x 3 pixels around it (itself included); the picture's
+    light is the same to float rounding, and a picture without spikes is unchanged."""
+    rng = np.random.default_rng(4)
+    illumination = 1.0 + 0.01 * rng.standard_normal((9, 9, 1)).repeat(3, axis=2)
+    albedo = np.full((9, 9, 3), 0.5)
+    assert np.allclose(denoise.share_spikes(illumination, albedo), illumination, rtol=1e-12)
+    spiky = illumination.copy()
+    spiky[4, 4] = 50.0
+    shared = denoise.share_spikes(spiky, albedo)
+    assert (shared * albedo).sum() == pytest.approx((spiky * albedo).sum(), rel=1e-12)
+    gained = (shared - illumination)[3:6, 3:6, 0]
+    assert shared[4, 4, 0] < 0.15 * 50.0  # the dot: its cap and its own ninth
+    around = np.delete(gained.ravel(), 4)
+    assert np.allclose(around, around[0], rtol=0.05) and around[0] > 5.0  # shared evenly
+    assert shared[4, 4, 0] == pytest.approx(50.0 - 8.0 * around[0], rel=0.01)  # 8 ninths
+    assert np.allclose(shared[:2], illumination[:2])  # far away: untouched
