@@ -197,6 +197,7 @@ def test_planted_bug_is_not_the_prototypes_filter(tmp_path, bug):
         assert_filter_is_the_prototypes(tmp_path, "cornell_box", shader_dir)
 
 
+@pytest.mark.windows
 def test_the_features_are_what_the_scene_says(tmp_path):
     """Away from edges every sample of a pixel meets the same wall: its albedo is the
     wall's, its normal the wall's, its depth the distance along the pixel's ray (within
