@@ -90,7 +90,7 @@ def assert_light_kept(scene, denoised, raw, reference):
     """Each region's brightness, the denoised pictures' mean against the reference's:
     within 2%, or SIGMAS standard errors of the raw pictures' mean (the same samples,
     unfiltered) where those are wider."""
-    masks = mitsuba_reference.region_masks(load(scene), SIZE, SIZE)
+    masks = path_checks.kept_region_masks(load(scene), SIZE, SIZE)
     for region, mask in masks.items():
         if mask.sum() < 20:
             continue
