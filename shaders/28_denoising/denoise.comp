@@ -38,6 +38,7 @@ uint indexOf(ivec2 pixel) { return uint(pixel.y) * filterSize.x + uint(pixel.x);
 bool inside(ivec2 pixel) { return all(greaterThanEqual(pixel, ivec2(0))) &&
                                   all(lessThan(pixel, ivec2(filterSize))); }
 float depthAt(ivec2 pixel) { return features[indexOf(pixel)].albedoDepth.w; }
+vec3 albedoAt(uint index) { return max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR)); }
 
 // --8<-- [start:gather]
 // The illumination: the mean reflected light over the mean albedo (dividing each
@@ -47,14 +48,12 @@ float depthAt(ivec2 pixel) { return features[indexOf(pixel)].albedoDepth.w; }
 // the light is; one sample says nothing of its noise: call it large.
 vec4 gathered(uint index) {
     vec4 moments = reflected[index];
-    vec3 albedo = max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
+    vec3 albedo = albedoAt(index);
     float mean = luminance(moments.rgb), scale = max(luminance(albedo), ALBEDO_FLOOR);
     float variance = samples > 1u ? max(moments.w - mean * mean, 0.0) / float(samples - 1u)
                                   : 1e30;
     return vec4(moments.rgb / albedo, variance / (scale * scale));
 }
-// --8<-- [end:gather]
-
 // --8<-- [end:gather]
 
 // --8<-- [start:spikes]
@@ -80,12 +79,12 @@ vec3 excessAt(ivec2 pixel, out float sharers) {
     float mean = sum / count, cap = mean + SPIKE_SIGMAS * sqrt(max(squares / count -
                                                                    mean * mean, 0.0));
     vec3 light = gathered(indexOf(pixel)).rgb;
-    vec3 albedo = max(features[indexOf(pixel)].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
-    return luminance(light) > cap ? light * (1.0 - cap / luminance(light)) * albedo : vec3(0.0);
+    float over = luminance(light);
+    return over > cap ? light * (1.0 - cap / over) * albedoAt(indexOf(pixel)) : vec3(0.0);
 }
 vec4 spikesShared(ivec2 pixel) {
     vec4 here = gathered(indexOf(pixel));
-    vec3 albedo = max(features[indexOf(pixel)].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
+    vec3 albedo = albedoAt(indexOf(pixel));
     float sharers;
     vec3 colour = here.rgb * albedo - excessAt(pixel, sharers);
     for (int y = -1; y <= 1; ++y)
@@ -147,35 +146,21 @@ float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, fl
 }
 // --8<-- [end:weights]
 
-// The variance of the luminance at `pixel`: a 3 x 3 Gaussian of the estimates around
-// it (one pixel's own estimate is noisy itself).
-float varianceAround(ivec2 pixel) {
-    float variance = 0.0, total = 0.0;
+// The luminance the taps are compared with, and its variance: 3 x 3 Gaussians around
+// the pixel, not the pixel's own, whose noise would make it turn away its neighbours.
+vec2 lightAndVarianceAround(ivec2 pixel) {
+    vec2 sum = vec2(0.0);
+    float total = 0.0;
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
             ivec2 other = pixel + ivec2(x, y);
             if (!inside(other)) continue;
             float w = (x == 0 ? 0.5 : 0.25) * (y == 0 ? 0.5 : 0.25);
-            variance += w * filtered[indexOf(other)].w;
+            vec4 tap = filtered[indexOf(other)];
+            sum += w * vec2(luminance(tap.rgb), tap.w);
             total += w;
         }
-    return variance / total;
-}
-
-// The luminance the taps are compared with: a 3 x 3 Gaussian of the illumination
-// around the pixel, not the pixel's own, whose noise would make it turn away its
-// neighbours.
-float lightAround(ivec2 pixel) {
-    float light = 0.0, total = 0.0;
-    for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) {
-            ivec2 other = pixel + ivec2(x, y);
-            if (!inside(other)) continue;
-            float w = (x == 0 ? 0.5 : 0.25) * (y == 0 ? 0.5 : 0.25);
-            light += w * luminance(filtered[indexOf(other)].rgb);
-            total += w;
-        }
-    return light / total;
+    return sum / total;
 }
 
 // --8<-- [start:pass]
@@ -186,8 +171,7 @@ vec4 filterPass(ivec2 pixel) {
     uint index = indexOf(pixel);
     vec2 gradient = depthGradient(pixel);
     vec4 normalSpread = features[index].normal;
-    float light = filterKind == FILTER_ATROUS ? lightAround(pixel) : 0.0;
-    float lightVariance = filterKind == FILTER_ATROUS ? varianceAround(pixel) : 0.0;
+    vec2 around = filterKind == FILTER_ATROUS ? lightAndVarianceAround(pixel) : vec2(0.0);
     vec3 sum = vec3(0.0);
     float variance = 0.0, weights = 0.0;
     for (int y = -2; y <= 2; ++y)
@@ -197,7 +181,7 @@ vec4 filterPass(ivec2 pixel) {
             vec4 tap = filtered[indexOf(pixel + offset)];
             float w = filterKind == FILTER_BOX ? 1.0 : KERNEL[x + 2] * KERNEL[y + 2];
             if (filterKind >= FILTER_FEATURES && offset != ivec2(0))  // itself: alike
-                w *= edgeWeight(pixel, offset, gradient, normalSpread, light, lightVariance,
+                w *= edgeWeight(pixel, offset, gradient, normalSpread, around.x, around.y,
                                 tap);
             sum += w * tap.rgb;
             variance += w * w * tap.w;
@@ -217,8 +201,7 @@ void main() {
         filteredOut[index] = filterPass(pixel);
     } else {  // STAGE_FINISH: the albedo back, as it was divided out, and the light
               // the surface emits, which was never filtered
-        vec3 albedo = max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR));
-        denoised[index] = vec4(filtered[index].rgb * albedo + features[index].emitted.rgb,
-                               1.0);
+        denoised[index] = vec4(filtered[index].rgb * albedoAt(index) +
+                               features[index].emitted.rgb, 1.0);
     }
 }
