@@ -12,7 +12,6 @@ comparisons; the seeds are fixed, so the results do not change from run to run."
 
 from __future__ import annotations
 
-import io
 import json
 import math
 import re
@@ -154,24 +153,6 @@ def kept_mitsuba(scene, width: int, height: int, spp: int, bounces: int, seed: i
     skipped where Mitsuba is not installed."""
     pytest.importorskip("mitsuba")
     return mitsuba_cache.kept_render(scene, width, height, spp, bounces, seed, variant)
-
-
-def kept_region_masks(scene, width: int, height: int) -> dict:
-    """mitsuba_reference.region_masks, kept in the reference cache under the scene's
-    fingerprint, the size and the prototypes that trace it: numpy takes seconds a
-    picture for a mesh (the teapot at 160 x 160: 17 s)."""
-    from python_prototypes import mitsuba_reference
-    name = reference_cache.key("region masks", mitsuba_cache.scene_fingerprint(scene),
-                               width, height, *mitsuba_cache.translating_sources()) + ".npz"
-    kept = reference_cache.fetch(name)
-    if kept is not None:
-        with np.load(io.BytesIO(kept)) as stored:
-            return {region: stored[region] for region in stored.files}
-    masks = mitsuba_reference.region_masks(scene, width, height)
-    payload = io.BytesIO()
-    np.savez(payload, **masks)
-    reference_cache.store(name, payload.getvalue())
-    return masks
 
 
 def close_up(scene_file: Path, name: str, folder: Path, size: int, mesh_folders=(),

@@ -33,7 +33,10 @@ import pytest
 from conftest import ROOT, region_standard_error, run_chapter
 from path_checks import SIGMAS
 
+from course_tools import mitsuba_cache
+from course_tools.bench import denoise as bench_denoise
 from python_prototypes import denoise, mitsuba_reference, scene_io
+from python_prototypes.denoise import relative_mse
 from python_prototypes.pfm import read_pfm
 
 SCENE_FOLDER = ROOT / "assets" / "scenes"
@@ -49,16 +52,13 @@ MOST_AGAINST_OIDN = 3.0
 NOT_NORMALISED = ("denoise.comp",
                   "    return vec4(sum / weights, variance / (weights * weights));\n",
                   "    return vec4(sum, variance);\n")
-ALBEDO_NOT_BACK = ("denoise.comp", "filtered[index].rgb * albedo + ", "filtered[index].rgb + ")
+ALBEDO_NOT_BACK = ("denoise.comp", "filtered[index].rgb * albedoAt(index) +",
+                   "filtered[index].rgb +")
 STEP_NOT_DOUBLED = ("denoise.comp", "ivec2(x, y) * int(tapStep)", "ivec2(x, y)")
 # A correct filter written another way: a sampled Gaussian (sigma 1) for the B3 spline.
 GAUSSIAN_KERNEL = ("denoise.comp",
                    "float[5](1.0 / 16.0, 1.0 / 4.0, 3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0)",
                    "float[5](0.054, 0.244, 0.403, 0.244, 0.054)")
-
-
-def relative_mse(image, reference) -> float:
-    return float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
 
 
 def load(scene: str):
@@ -90,7 +90,7 @@ def assert_light_kept(scene, denoised, raw, reference):
     """Each region's brightness, the denoised pictures' mean against the reference's:
     within 2%, or SIGMAS standard errors of the raw pictures' mean (the same samples,
     unfiltered) where those are wider."""
-    masks = path_checks.kept_region_masks(load(scene), SIZE, SIZE)
+    masks = mitsuba_cache.kept_region_masks(load(scene), SIZE, SIZE)
     for region, mask in masks.items():
         if mask.sum() < 20:
             continue
@@ -125,7 +125,7 @@ def test_eight_samples_denoised_beat_sixty_four_raw_and_keep_the_light(tmp_path,
 def test_within_reach_of_open_image_denoise(tmp_path, references, scene):
     """OIDN (a trained network) on the same raw colour, albedo and normal: ours within
     MOST_AGAINST_OIDN times its error."""
-    pyoidn = pytest.importorskip("pyoidn", reason="pip install -r requirements/test.txt")
+    pytest.importorskip("pyoidn", reason="pip install -r requirements/test.txt")
     reference = references(scene)
     ours, theirs = [], []
     for seed in SEEDS:
@@ -134,11 +134,8 @@ def test_within_reach_of_open_image_denoise(tmp_path, references, scene):
                              "--height", SIZE, "--spp", 8, "--seed", seed, "--denoise", "none",
                              "--out", f"{prefix}.pfm", "--aux-out", prefix)
         assert result.returncode == 0, result.stderr
-        noisy, albedo, normal = (read_pfm(f"{prefix}{suffix}.pfm").astype(np.float32)
-                                 for suffix in ("", "_albedo", "_normal"))
-        # --aux-out writes normals as 0.5 + 0.5 n (a picture); OIDN takes n itself
-        cleaned = pyoidn.denoise(noisy, albedo, normal * 2.0 - 1.0, hdr=True)
-        theirs.append(relative_mse(np.asarray(cleaned, dtype=np.float64), reference))
+        cleaned, _ = bench_denoise.oidn(prefix)
+        theirs.append(relative_mse(cleaned, reference))
         ours.append(relative_mse(render(tmp_path, scene, "atrous", 8, "atrous", seed),
                                  reference))
     print(f"{scene}: ours {np.mean(ours):.5f}, OIDN {np.mean(theirs):.5f}")

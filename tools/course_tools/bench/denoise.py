@@ -47,10 +47,6 @@ class Settings:
     repeat: int = 3
 
 
-def relative_mse(image, reference) -> float:
-    return float(np.mean((image - reference) ** 2 / (reference ** 2 + 0.01)))
-
-
 def render(binary: Path, folder: Path, scene: str, width: int, height: int, spp: int,
            denoise: str, seed: int = 1, aux: bool = False) -> tuple[dict, Path]:
     out = folder / f"{scene}_{width}x{height}_{denoise}_{spp}_{seed}"
@@ -75,6 +71,7 @@ def oidn(prefix: Path) -> tuple[np.ndarray, float]:
 def quality(binary: Path, meshes: Path, settings: Settings, folder: Path) -> list:
     from course_tools import mitsuba_cache
     from python_prototypes import scene_io
+    from python_prototypes.denoise import relative_mse
     from python_prototypes.pfm import read_pfm
     rows = []
     for scene, name in SCENES.items():
