@@ -77,7 +77,10 @@ void Denoiser::run(unsigned samples) {
     std::swap(filtered_, filteredOut_);
     const int passes = options_.filter == "box" ? 1 : options_.passes;
     for (int pass = 0; pass < passes; ++pass) {
-        dispatch(STAGE_FILTER, samples, 1u << pass);  // taps 1, 2, 4, ... pixels apart
+        // BEGIN SOLUTION the pass's taps 1, 2, 4, ... pixels apart
+        dispatch(STAGE_FILTER, samples, 1u << pass);
+        // STUB: dispatch(STAGE_FILTER, samples, 1u);
+        // END SOLUTION
         std::swap(filtered_, filteredOut_);
     }
     dispatch(STAGE_FINISH, samples);

@@ -128,6 +128,7 @@ vec2 depthGradient(ivec2 pixel) {
 //   spread, not lost (the pixel's noise alone darkened the Cornell box by 1.3%).
 float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, float light,
                  float lightVariance, vec4 tap) {
+    // BEGIN SOLUTION the depth, normal and luminance weights, each from 0 to 1
     ivec2 other = pixel + offset;
     float depth = depthAt(pixel);
     float spread = sqrt(normalSpread.w);
@@ -143,6 +144,8 @@ float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, fl
     if (filterKind == FILTER_ATROUS)
         weight *= exp(-lightApart / (luminanceSigma * noise + EPSILON));
     return weight;
+    // STUB: return 1.0;  // every tap counts: a blur
+    // END SOLUTION
 }
 // --8<-- [end:weights]
 
@@ -172,6 +175,7 @@ vec4 filterPass(ivec2 pixel) {
     vec2 gradient = depthGradient(pixel);
     vec4 normalSpread = features[index].normal;
     vec2 around = filterKind == FILTER_ATROUS ? lightAndVarianceAround(pixel) : vec2(0.0);
+    // BEGIN SOLUTION the taps' weighted mean, and the variance of that mean
     vec3 sum = vec3(0.0);
     float variance = 0.0, weights = 0.0;
     for (int y = -2; y <= 2; ++y)
@@ -188,6 +192,8 @@ vec4 filterPass(ivec2 pixel) {
             weights += w;
         }
     return vec4(sum / weights, variance / (weights * weights));
+    // STUB: return filtered[index];  // the pixel as it was: nothing filtered
+    // END SOLUTION
 }
 // --8<-- [end:pass]
 

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from course_tools import cmake_cache, reference_cache
-from course_tools.grading import diagnosis, grading_statistics, sandbox
+from course_tools.grading import denoised_grading, diagnosis, grading_statistics, sandbox
 from course_tools.grading.sandbox import run_limited
 from course_tools.grading.submission_files import (private_folder, read_regular, submitted_file,
                                                     write_atomically, write_new)
@@ -618,7 +618,7 @@ def prepare_references(root: Path, build: Path, chapter: str) -> list[Path]:
     for test in SPECS[chapter[:2]]:
         if test.kind == "image":
             paths.append(reference_image(root, build, chapter, test))
-        elif test.kind in ("statistical", "traversal"):
+        elif test.kind in grading_statistics.KINDS:
             paths += statistical_references(root, build, chapter, test)
     return paths
 
@@ -725,10 +725,13 @@ def grade_test(root: Path, build: Path, chapter: str, program: Path, test: Grade
                           f"\n{output.strip()}")
         return outcome
 
-    if test.kind in ("statistical", "traversal"):
-        # Random pictures by statistics, chapter 13's tree by its work within a band:
-        # tools/course_tools/grading/grading_statistics.py, with this grader's runner and references.
-            return grading_statistics.grade_test(
+    if test.kind in grading_statistics.KINDS:
+        # Random pictures by statistics, chapter 13's tree by its work within a band
+        # (grading_statistics.py), a denoiser against the solution's filter
+        # (denoised_grading.py), with this grader's runner and references.
+        judge = (denoised_grading.grade_test if test.kind == "denoised"
+                 else grading_statistics.grade_test)
+        return judge(
             test, outcome, workdir, report_dir,
             run=lambda arguments, out: run(["--headless", *arguments], out),
             references=lambda: statistical_references(root, build, chapter, test),
@@ -895,7 +898,8 @@ def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
     # what made them (beside the solution, build and GL: reference_maker).
     catalogue = reference_cache.key(
         repr(variants), *(reference_cache.file_digest(Path(module.__file__))
-                          for module in (diagnosis, grading_statistics)))
+                          for module in (diagnosis, grading_statistics,
+                                         denoised_grading)))
     kept = load_signatures(build, chapter)
     if kept is not None and kept.get("catalogue") == catalogue:
         return path
@@ -907,7 +911,7 @@ def prepare_signatures(root: Path, build: Path, chapter: str, progress=None,
         write_atomically(path, stored)
         return path
     prepare_references(root, build, chapter)
-    random = any(t.kind == "statistical" for t in SPECS[chapter[:2]])
+    random = any(t.kind in grading_statistics.RANDOM_KINDS for t in SPECS[chapter[:2]])
     seeds = diagnosis.FOLD_SEEDS[:diagnosis.FOLDS if random else 1]
     if progress is not None:
         progress(f"measuring chapter {chapter}'s {len(variants)} catalogued mistakes "

@@ -10,6 +10,11 @@ kind 'statistical': for random pictures. The submission renders the args several
   many-sample render in a z-test with the submission's own noise
   (tools/course_tools/grading/grading_statistics.py), so any correct estimator passes, whatever its noise.
 kind 'traversal': chapter 13's tree: the solution's nearest hits, and about its work.
+kind 'denoised': a denoiser (chapter 28): the submission renders the args several times
+  at its own seeds, denoised; each region's light must be the solution's filter's (run
+  as many times, at other seeds) within an allowance and the noise of the two means, and
+  the noise it leaves at most a little more than the solution's
+  (tools/course_tools/grading/denoised_grading.py).
 
 Points: a plausible wrong implementation should lose at least half, a correct one
 nothing, so each chapter's tests weigh what they catch
@@ -40,7 +45,7 @@ class GradeTest:
     kind: str = "image"
     visibility: str = "visible"
     expect: str = ""
-    sampling: Sampling | None = None  # kind 'statistical' only
+    sampling: Sampling | None = None  # kinds 'statistical' and 'denoised'
     # Files the arguments name, from the build's generated assets (build/assets): the
     # grader puts a copy of each in the folder the program runs in, the submission's
     # and the reference's alike, so that `--obj gem_octahedron.obj` finds it there.
@@ -83,6 +88,14 @@ PREVIEW_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
 TREE_SAMPLING = Sampling(runs=8, spp=16, reference_runs=4, reference_spp=128)
 # The appendix's gems test every triangle for every ray in a fragment shader.
 GEMS_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
+# Chapter 28's denoiser: 16 runs of 8 samples a pixel, denoised, against the solution's
+# filter's 16 (another 16 seeds), on the Cornell box at 96 x 96, where a 4 x 4 block (24
+# pixels a side) is wider than the filter's reach. With 8 runs a side the solution's
+# noise at other seeds came out 0.87 to 1.14 times its own, too near the step-not-doubled
+# mistake's 1.56 at 64 x 64 (denoised_grading.py has the 16 runs' figures). A run takes
+# about a second.
+DENOISE_SAMPLING = Sampling(runs=16, spp=8, reference_runs=16, reference_spp=8)
+DENOISED = ["--denoise", "atrous"]
 # Chapter 04's three front spheres in front of the big one, close up with a long lens:
 # where the nearest hit matters, filling the frame.
 OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
@@ -419,6 +432,16 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("the moving balls", 3, TINY, "statistical", sampling=PATH_SAMPLING),
         GradeTest("the smears", 3, [*TINY, "--view", "albedo"], "statistical",
                   "after_due_date", sampling=PATH_SAMPLING),
+    ],
+    # Chapter 28: the filter's passes (denoise.comp) and their steps (denoiser.cpp). The
+    # odd size has tiles that overhang the picture, and taps beyond its edges.
+    "28": [
+        GradeTest("Cornell box, denoised", 6, ["--width", "96", "--height", "96",
+                                              "--scene", "cornell_box", *DENOISED],
+                  "denoised", sampling=DENOISE_SAMPLING),
+        GradeTest("Cornell box, denoised, odd size", 4, [*ODD, "--scene", "cornell_box",
+                                                         *DENOISED],
+                  "denoised", "after_due_date", sampling=DENOISE_SAMPLING),
     ],
     # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
     # writes is the pass's end: the pixel's state from the previous pass's textures,

@@ -1,5 +1,6 @@
 """Grading pictures that are random, and work that may differ: the autograder's
-'statistical' and 'traversal' test kinds (tools/course_tools/grading/grader.py dispatches them here).
+'statistical' and 'traversal' test kinds (tools/course_tools/grading/grader.py dispatches them here;
+a denoiser's pictures, kind 'denoised', are read here and judged in denoised_grading.py).
 
 A path-traced picture at a fixed seed is one draw of a random image: a submission that
 draws its random numbers in another order, or maps them to directions another valid way,
@@ -70,7 +71,10 @@ from course_tools.grading.submission_files import submitted_file
 from python_prototypes import srgb
 from python_prototypes.pfm import parse_pfm, read_pfm  # noqa: F401  (the grader reads through here)
 
-KINDS = ("statistical", "traversal")
+# The kinds whose runs and references this module names (reference_arguments) and
+# reads (read_runs): 'denoised' is judged in denoised_grading.py.
+KINDS = ("statistical", "traversal", "denoised")
+RANDOM_KINDS = ("statistical", "denoised")  # pictures that change with the seed
 
 FAMILY_ALPHA = 1e-4         # the chance that a correct submission fails one test
 MIN_REGION_PIXELS = 16      # the finest blocks: enough pixels to pool their variances
@@ -106,6 +110,9 @@ def reference_arguments(test) -> list[list[str]]:
     if test.kind == "traversal":
         return [[*test.args, "--view", "distance"], [*test.args, "--view", "cost"]]
     sampling = test.sampling
+    if test.kind == "denoised":  # the solution's filter, at the submission's budget
+        return [run_arguments(test, REFERENCE_SEED + j, sampling.reference_spp)
+                for j in range(sampling.reference_runs)]
     return ([run_arguments(test, REFERENCE_SEED + j, sampling.reference_spp)
              for j in range(sampling.reference_runs)] +
             [run_arguments(test, NOISE_SEED + k, sampling.spp) for k in range(sampling.runs)])
@@ -312,7 +319,7 @@ def _save_heat(values: np.ndarray, path: Path, scale: int = 8):
                    Image.NEAREST).save(path)
 
 
-def _finest_z_map(comparison: Comparison, shape) -> np.ndarray:
+def finest_z_map(comparison: Comparison, shape) -> np.ndarray:
     """|z| / the rejection threshold on the finest blocks, worst channel, per pixel."""
     level = max(r.level for r in comparison.regions)
     picture = np.zeros(shape[:2])
@@ -327,12 +334,13 @@ def _finest_z_map(comparison: Comparison, shape) -> np.ndarray:
 
 # ---------------------------------------------------------------- grading
 
-def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
-               describe, first_seed: int = SUBMISSION_SEED):
-    """Fills in outcome (score, output, images, measurement) for a statistical or
-    traversal test. run(args, out) runs the submission headless with args writing out,
-    returning (exit code, output); references() the solution's PFMs for
-    reference_arguments(test); describe(code) says what an exit code means."""
+def read_runs(test, outcome, workdir: Path, run, references, describe,
+              first_seed: int = SUBMISSION_SEED):
+    """The submission's runs (run(args, out) runs it headless with args writing out,
+    returning (exit code, output)) and the solution's references (references(): its
+    PFMs for reference_arguments(test)), as lists of pictures; or None, with outcome's
+    output saying why (a run that failed or wrote no picture, another size).
+    describe(code) says what an exit code means."""
     images = []
     outcome.measurement = diagnosis.stopped(test.kind, "failed")
     for number, arguments in enumerate(submission_arguments(test, first_seed)):
@@ -343,23 +351,34 @@ def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
             data = read_output(out) if code == 0 else None
         except ValueError as error:
             outcome.output = f"run {number + 1} ({what}) exited 0 but {error}"
-            return outcome
+            return None
         if data is None:
             outcome.output = (f"run {number + 1} ({what}): the program {describe(code)}, "
                               f"no image:\n{output.strip()}")
-            return outcome
+            return None
         try:
             images.append(parse_pfm(data, out.name))
         except ValueError as error:
             outcome.output = f"run {number + 1} ({what}): {error}"
-            return outcome
+            return None
     reference = [read_pfm(path) for path in references()]
     shapes = {image.shape for image in images}
     if shapes != {reference[0].shape}:
         shape = images[0].shape
         outcome.output = (f"image is {shape[1]}x{shape[0]}, expected "
                           f"{reference[0].shape[1]}x{reference[0].shape[0]}")
+        return None
+    return images, reference
+
+
+def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
+               describe, first_seed: int = SUBMISSION_SEED):
+    """Fills in outcome (score, output, images, measurement) for a statistical or
+    traversal test (read_runs says what the arguments are)."""
+    found = read_runs(test, outcome, workdir, run, references, describe, first_seed)
+    if found is None:
         return outcome
+    images, reference = found
     if test.kind == "traversal":
         return _grade_traversal(test, outcome, report_dir, images, reference)
     return _grade_statistical(test, outcome, report_dir, np.stack(images),
@@ -368,19 +387,38 @@ def grade_test(test, outcome, workdir: Path, report_dir: Path, run, references,
                               first_seed)
 
 
+def broken_pixels(runs: np.ndarray, outcome, kind: str) -> bool:
+    """NaN, infinite or negative pixels in any run: the outcome says so (and is
+    measured as that stop), and the test scores nothing."""
+    bad = ~np.isfinite(runs)
+    if bad.any():
+        outcome.measurement = diagnosis.stopped(kind, "nan")
+        outcome.output = (f"{int(bad.any(axis=(0, 3)).sum())} pixels are NaN or infinite "
+                          "in some run (a division by zero, or 0 * inf?)")
+        return True
+    if (runs < 0).any():
+        outcome.measurement = diagnosis.stopped(kind, "negative")
+        outcome.output = (f"{int((runs < 0).any(axis=(0, 3)).sum())} pixels are negative: "
+                          "light is never negative (a sign, or a negative cosine used?)")
+        return True
+    return False
+
+
+def save_report_images(slug: str, report_dir: Path, submission: np.ndarray,
+                       reference: np.ndarray, error: np.ndarray, outcome):
+    """The report's three pictures: the submission's mean, the solution's, and a heat
+    map of where they differ (error: 0 to 1, 1 the worst)."""
+    _save_png(submission, report_dir / f"{slug}_submission.png")
+    _save_png(reference, report_dir / f"{slug}_reference.png")
+    _save_heat(error, report_dir / f"{slug}_error.png")
+    outcome.images = {kind: f"{slug}_{kind}.png"
+                      for kind in ("submission", "reference", "error")}
+
+
 def _grade_statistical(test, outcome, report_dir, runs, reference_runs, noise_runs,
                        first_seed: int = SUBMISSION_SEED):
     sampling = test.sampling
-    bad = ~np.isfinite(runs)
-    if bad.any():
-        outcome.measurement = diagnosis.stopped("statistical", "nan")
-        outcome.output = (f"{int(bad.any(axis=(0, 3)).sum())} pixels are NaN or infinite "
-                          "in some run (a division by zero, or 0 * inf?)")
-        return outcome
-    if (runs < 0).any():
-        outcome.measurement = diagnosis.stopped("statistical", "negative")
-        outcome.output = (f"{int((runs < 0).any(axis=(0, 3)).sum())} pixels are negative: "
-                          "light is never negative (a sign, or a negative cosine used?)")
+    if broken_pixels(runs, outcome, "statistical"):
         return outcome
     result = compare(runs, reference_runs, noise_runs)
     shape = runs.shape[1:]
@@ -420,11 +458,8 @@ def _grade_statistical(test, outcome, report_dir, runs, reference_runs, noise_ru
                          f"{result.standard_error[index]:.2g} (z = {result.z[index]:+.1f})")
     outcome.score = test.max_score if passed else 0.0
     outcome.output = "\n".join(lines)
-    _save_png(runs.mean(axis=0), report_dir / f"{test.slug}_submission.png")
-    _save_png(reference_runs.mean(axis=0), report_dir / f"{test.slug}_reference.png")
-    _save_heat(_finest_z_map(result, shape), report_dir / f"{test.slug}_error.png")
-    outcome.images = {kind: f"{test.slug}_{kind}.png"
-                      for kind in ("submission", "reference", "error")}
+    save_report_images(test.slug, report_dir, runs.mean(axis=0), reference_runs.mean(axis=0),
+                       finest_z_map(result, shape), outcome)
     return outcome
 
 
@@ -476,10 +511,7 @@ def _grade_traversal(test, outcome, report_dir, images, reference):
                               ("too many pixels at the top", bound_ok)) if not ok))
     outcome.score = test.max_score if passed else 0.0
     outcome.output = "\n".join(lines)
-    _save_png(cost, report_dir / f"{test.slug}_submission.png")
-    _save_png(reference_cost, report_dir / f"{test.slug}_reference.png")
-    _save_heat(np.abs(steps - reference_steps) / COST_SCALE +
-               (~np.all(close, axis=-1)), report_dir / f"{test.slug}_error.png")
-    outcome.images = {kind: f"{test.slug}_{kind}.png"
-                      for kind in ("submission", "reference", "error")}
+    save_report_images(test.slug, report_dir, cost, reference_cost,
+                       np.abs(steps - reference_steps) / COST_SCALE + (~np.all(close, axis=-1)),
+                       outcome)
     return outcome
