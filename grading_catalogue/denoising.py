@@ -33,34 +33,31 @@ CHAPTER_28 = [
 
     Variant(D, "the weights' sum not divided out", False, (
         Edit(FILTER, MEAN_OF_TAPS, "    return vec4(sum, variance);\n"),),
-        explanation=("A weighted mean divides by the sum of its weights; without it the "
-                     "picture is many times too bright where the weights are large."),
+        explanation=("A weighted mean divides by the sum of its weights: without it the "
+                     "picture is far too bright."),
         section="Blurs: the noise goes, and the edges with it"),
     Variant(D, "the mean's variance through the weights, not their squares", False, (
         Edit(FILTER, VARIANCE_OF_TAP, "            variance += w * tap.w;\n"),
         Edit(FILTER, MEAN_OF_TAPS,
              "    return vec4(sum / weights, variance / weights);\n")),
-        explanation=("A weighted mean's variance takes the weights squared: without them "
-                     "the next pass thinks the light as noisy as before and blurs across "
-                     "its edges."),
+        explanation=("A weighted mean's variance takes the weights squared: without them the "
+                     "next passes blur across edges."),
         section="The light's own edges"),
     Variant(D, "the difference judged by the pixel's noise alone", False, (
         Edit(FILTER, NOISE_OF_BOTH, "    float noise = sqrt(lightVariance);\n"),),
-        explanation=("A weight judged by one pixel's noise is not the same seen from the "
-                     "other side: a lucky bright pixel turns its neighbours away and its "
-                     "light is lost."),
+        explanation=("Judged by one pixel's noise, a bright pixel turns its neighbours away: "
+                     "its light is lost."),
         section="The light's own edges"),
     Variant(D, "the step not doubled from pass to pass", False, (
         Edit("chapters/denoiser.cpp", STEP,
              "        dispatch(STAGE_FILTER, samples, 1u);\n"),),
-        explanation=("Each pass's taps lie twice as far apart as the last's: with the same "
-                     "step every pass, the filter reaches a few pixels and leaves the "
-                     "noise it is for."),
+        explanation=("Each pass's taps lie twice as far apart as the last's, or the filter "
+                     "reaches too few pixels."),
         section="À-trous: wide with 25 taps"),
     Variant(D, "the normal weight left out", False, (
         Edit(FILTER, NORMAL_WEIGHT, ""),),
-        explanation=("Without the normal weight, light is shared between walls that meet "
-                     "at a crease, where depth alone cannot tell them apart."),
+        explanation=("Without the normal weight, walls meeting at a crease share their "
+                     "light."),
         section="Weights from the features"),
 ]
 

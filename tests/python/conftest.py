@@ -253,12 +253,14 @@ def regions_agreeing(a: np.ndarray, b: np.ndarray, scene_file: Path,
     region's mean must differ by less than `sigmas` standard errors of the difference
     (region_standard_error), and, with most_relative, the means' brightness (RGB
     averaged) by less than that fraction of b's. Regions of fewer than 20 pixels have no
-    useful spread and are left out. Returns the regions compared, for the caller to
+    useful spread and are left out. The masks are kept in the reference cache (numpy
+    traces a mesh scene for seconds). Returns the regions compared, for the caller to
     check."""
+    from course_tools import mitsuba_cache
     from python_prototypes import mitsuba_reference
     from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
-    masks = mitsuba_reference.region_masks(scene, a.shape[1], a.shape[0])
+    masks = mitsuba_cache.kept_region_masks(scene, a.shape[1], a.shape[0])
     means_a = mitsuba_reference.region_means(a, masks)
     means_b = mitsuba_reference.region_means(b, masks)
     compared = []

@@ -220,7 +220,6 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
     RGB averaged; the error is the spread of ours - ratio x theirs, which a picture only
     too dark or too bright (ours = ratio x theirs) does not widen."""
     pytest.importorskip("mitsuba")
-    from python_prototypes import mitsuba_reference
     from python_prototypes import scene_io
     folders = [str(f) for f in mesh_folders]
     close, width, height = close_up(scene_file, name, tmp_path, size, mesh_folders)
@@ -228,7 +227,7 @@ def close_up_difference(chapter: str, tmp_path, scene_file: Path, name: str, siz
                       width, "--height", height, "--spp", spp, *extra)
     scene = scene_io.load_scene(str(close), folders)
     theirs = kept_mitsuba(scene, width, height, mitsuba_spp, 6, seed=0).astype(np.float64)
-    mask = mitsuba_reference.region_masks(scene, width, height)[name]
+    mask = mitsuba_cache.kept_region_masks(scene, width, height)[name]
     relative, error = brightness_difference(ours[mask], theirs[mask])
     print(f"{name}: {relative:+.2%} (standard error {error:.2%}, {mask.sum()} pixels, "
           f"{spp} spp against {mitsuba_spp})")
@@ -240,12 +239,10 @@ def mitsuba_regions(scene_file: Path, spp: int, size: int, mesh_folders=()):
     (image (size, size, 3), {region: mask}, scene_file), what assert_regions_within_two_percent
     compares a chapter's render with."""
     pytest.importorskip("mitsuba")
-    from python_prototypes import mitsuba_reference
     from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [str(f) for f in mesh_folders])
     image = kept_mitsuba(scene, size, size, spp, 6, seed=0)
-    return (image,
-            mitsuba_reference.region_masks(scene, size, size), scene_file)
+    return image, mitsuba_cache.kept_region_masks(scene, size, size), scene_file
 
 
 def assert_regions_within_two_percent(ours: np.ndarray, reference, mesh_folders=()):
@@ -276,10 +273,9 @@ def brightness_difference(ours: np.ndarray, theirs: np.ndarray):
 
 def named_region(image: np.ndarray, scene_file: Path, name: str):
     """(the pixels that see only the shape called `name`, the scene), at the image's size."""
-    from python_prototypes import mitsuba_reference
     from python_prototypes import scene_io
     scene = scene_io.load_scene(str(scene_file), [])
-    return mitsuba_reference.region_masks(scene, image.shape[1], image.shape[0])[name], scene
+    return mitsuba_cache.kept_region_masks(scene, image.shape[1], image.shape[0])[name], scene
 
 
 def render_with_stats(chapter: str, tmp_path, name: str, *args,
