@@ -349,7 +349,7 @@ def write_summary(chapter: str, graded: dict, seconds: float, signing: float):
     replayed = sum(counts.get("replayed", 0) for _, _, counts in graded.values())
     made = sum(counts.get("made", 0) for _, _, counts in graded.values())
     signatures = grader.load_signatures(BUILD, chapter) or {}
-    random = any(t.kind == "statistical" for t in SPECS[chapter[:2]])
+    random = any(t.kind in statistics.RANDOM_KINDS for t in SPECS[chapter[:2]])
     threshold = (f"threshold {signatures.get('threshold', math.nan):.2f} chi-square per "
                  f"region (textbook bound {signatures.get('theory', math.nan):.2f})"
                  if random else f"patterns matched up to {diagnosis.PATTERN_MATCH}")

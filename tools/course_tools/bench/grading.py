@@ -96,7 +96,7 @@ def page_table(report: dict) -> str:
 def program_runs(chapter: str) -> int:
     runs = 0
     for test in SPECS[chapter[:2]]:
-        runs += test.sampling.runs if test.kind == "statistical" else \
+        runs += test.sampling.runs if test.sampling is not None else \
             (2 if test.kind == "traversal" else 1)
     return runs
 
