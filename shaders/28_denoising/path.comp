@@ -130,6 +130,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays,
     bool settled = false;
     float travelled = 0.0;
     first = SurfaceFeatures(vec3(1.0), -ray.direction, DEPTH_OF_NOTHING, vec3(0.0));
+    // STUB: bool settled = true;  // nothing recorded: the same features everywhere
     // STUB: first = SurfaceFeatures(vec3(1.0), vec3(0.0, 0.0, 1.0), 1.0, vec3(0.0));
     // END SOLUTION
     for (int bounce = 0;; ++bounce) {
@@ -159,6 +160,7 @@ vec3 tracePath(Ray ray, inout RandomState random, inout uint rays,
         travelled += hit.t;
         bool recordedHere = !settled;
         recordSurface(first, settled, throughput, material, hit, travelled);
+        // STUB: bool recordedHere = false;
         // END SOLUTION
 
         // 1. Light the ray runs into. The camera sees it in full, and so does a mirror;

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from course_tools import cmake_cache, reference_cache
+from course_tools import chapters, cmake_cache, reference_cache
 from course_tools.grading import denoised_grading, diagnosis, grading_statistics, sandbox
 from course_tools.grading.sandbox import run_limited
 from course_tools.grading.submission_files import (private_folder, read_regular, submitted_file,
@@ -484,9 +484,6 @@ _MAKERS_LOCK = threading.Lock()
 RENDERER_VARIABLES = ("LP_", "GALLIUM_", "MESA_", "LIBGL_", "DRI_", "__GLX_", "EGL_")
 
 
-ADD_CHAPTER = re.compile(r"\s*add_chapter\(\s*([A-Za-z0-9_]+)\s*\)")
-
-
 def build_file_for(root: Path, chapter: str) -> str:
     """The top CMakeLists.txt as it bears on one chapter: without the other chapters'
     add_chapter lines, which build other programs, so that a new chapter leaves every
@@ -494,7 +491,7 @@ def build_file_for(root: Path, chapter: str) -> str:
     were. Every other line counts."""
     lines = (root / "CMakeLists.txt").read_text().splitlines()
     return "\n".join(line for line in lines
-                     if not (found := ADD_CHAPTER.fullmatch(line.split("#")[0].rstrip()))
+                     if not (found := chapters.ADD_CHAPTER.match(line))
                      or found.group(1) == chapter)
 
 
