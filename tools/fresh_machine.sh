@@ -161,11 +161,20 @@ chmod 0755 "$ROOTFS"
 # this machine's course-grader1, and the two graders share one kernel. Each ends a run
 # by killing every process of its user's uid, so a suite in the root beside one here
 # would kill the other's compiles and runs (SIGKILL). The root's system users are
-# numbered from a range of their own instead; useradd still makes them when asked.
+# numbered from a range of their own instead, one range a suite: two roots of one range
+# (a Debian 12 and a Debian 13 root side by side, 2026-12-06) killed each other's runs
+# the same way. useradd still makes them when asked.
+case "$SUITE" in
+  bookworm) UID_BASE=58000 ;;
+  trixie) UID_BASE=57000 ;;
+  jammy) UID_BASE=56000 ;;
+  noble) UID_BASE=55000 ;;
+esac
 if [ -f "$ROOTFS/etc/login.defs" ]; then
   sed -i -e '/^[#[:space:]]*SYS_UID_M[AI][XN]/d' -e '/^[#[:space:]]*SYS_GID_M[AI][XN]/d' \
     "$ROOTFS/etc/login.defs"
-  printf 'SYS_UID_MIN 58000\nSYS_UID_MAX 58999\nSYS_GID_MIN 58000\nSYS_GID_MAX 58999\n' \
+  printf 'SYS_UID_MIN %s\nSYS_UID_MAX %s\nSYS_GID_MIN %s\nSYS_GID_MAX %s\n' \
+    "$UID_BASE" "$((UID_BASE + 999))" "$UID_BASE" "$((UID_BASE + 999))" \
     >>"$ROOTFS/etc/login.defs"
 fi
 
