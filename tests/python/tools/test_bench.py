@@ -575,3 +575,45 @@ def test_the_refit_bench_times_both_trees_and_writes_the_pages_only_when_asked(t
     for page, _, _ in pages.values():
         assert bench_refit.page_table(report) in page.read_text()
         assert "| 90° | 33.40 | 27.64 | 1.21 |" in page.read_text()
+
+
+# ---------------------------------------------------------------- chapter 28's denoise bench
+
+def made_up_denoise_report() -> dict:
+    """A report shaped as bench_denoise.bench() makes it (its measuring needs Mitsuba's
+    references at 16 384 samples: ./course bench denoise)."""
+    from course_tools.bench import denoise as bench_denoise
+    summary = {"median": 1.0, "min": 0.9, "max": 1.1, "spread": 0.2, "runs": [0.9, 1.0, 1.1]}
+    rows = [{"scene": scene, "name": name, "raw_bar": 0.005,
+             **{str(n): {"raw": 0.3 / n, "ours": 0.02 / n, "oidn": 0.015 / n}
+                for n in bench_denoise.SAMPLES}}
+            for scene, name in bench_denoise.SCENES.items()]
+    cost = {"denoise_ms": {**summary, "median": 150.0}, "sample_ms": {**summary, "median": 300.0},
+            "oidn_ms": {**summary, "median": 200.0}, "samples": {**summary, "median": 0.5}}
+    machine = bench_common.describe_machine(
+        {"renderer": "llvmpipe (LLVM 15.0.6, 256 bits)",
+         "gl_version": "4.5 (Core Profile) Mesa 22.3.6"})
+    return {"date": "2026-12-06 21:39 UTC", "machine": machine,
+            "settings": {"size": 160, "seeds": 2, "repeat": 3},
+            "reference_spp": bench_denoise.REFERENCE_SPP, "rows": rows, "cost": cost,
+            "quiet": {"cores": 2, "load_start": 0.1, "others_at_start": 0.0, "threshold": 0.6,
+                      "quiet": True, "load_end": 0.2, "other_processes_cores": 0.0}}
+
+
+def test_the_denoise_bench_draws_its_figure_and_writes_the_book_only_when_asked(tmp_path):
+    from course_tools.bench import denoise as bench_denoise
+    report = made_up_denoise_report()
+    pages = page_copies(bench_denoise.PAGES, tmp_path)
+    before = {n: page.read_text() for n, (page, _, _) in pages.items()}
+    figure = tmp_path / "figures" / "denoise_error.png"
+    bench_denoise.publish(report, update_book=False, pages=pages, out_folder=tmp_path / "out",
+                          figure=figure)
+    assert (tmp_path / "out" / "denoise_error.png").stat().st_size > 10_000
+    assert not figure.exists()
+    assert all(page.read_text() == before[n] for n, (page, _, _) in pages.items())
+    bench_denoise.publish(report, update_book=True, pages=pages, out_folder=tmp_path / "out",
+                          figure=figure)
+    assert figure.read_bytes() == (tmp_path / "out" / "denoise_error.png").read_bytes()
+    for page, start, end in pages.values():
+        table = page.read_text().split(start)[1].split(end)[0]
+        assert "| teapot | 4 |" in table and "0.50 samples a pixel" in table, table

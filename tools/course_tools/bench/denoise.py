@@ -12,12 +12,16 @@ Cost: the Cornell box at COST_WIDTH x COST_HEIGHT, 8 samples a pixel; the chapte
 reports the filter's GPU time (denoise_ms) and the whole render's (gpu_ms): the filter
 costs denoise_ms / ((gpu_ms - denoise_ms) / 8) samples of the path tracer. OIDN's time
 is the CPU time of one pyoidn.denoise call on the same picture. Each the median of
---repeat runs. Writes build/bench/denoise.json and prints the tables; writes them into
-book/docs/benchmarks.md and chapter 28's page only with --update-book."""
+--repeat runs. Writes build/bench/denoise.json and prints the tables, and draws the
+error against samples and against time (in samples of the path tracer, the filter's or
+OIDN's cost added) as build/bench/denoise_error.png; writes the tables into
+book/docs/benchmarks.md and chapter 28's page, and the figure into book/docs/figures/,
+only with --update-book."""
 
 from __future__ import annotations
 
 import json
+import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,6 +36,7 @@ MARKERS = ("<!-- bench-denoise:start -->", "<!-- bench-denoise:end -->")
 PAGES = {"benchmarks": (ROOT / "book" / "docs" / "benchmarks.md", *MARKERS),
          "28": (CHAPTERS / "28_denoising.md", *MARKERS)}
 OUT = ROOT / "build" / "bench"
+FIGURE = ROOT / "book" / "docs" / "figures" / "denoise_error.png"
 SCENES = {"cornell_box": "Cornell box", "cornell_teapot": "teapot",
           "cornell_glass": "glass (caustics)", "lens_textures": "textures, through a lens"}
 SAMPLES = (4, 8, 16)
@@ -158,18 +163,73 @@ def page_table(report: dict) -> str:
     return "\n".join(lines)
 
 
+def draw_figure(report: dict, path: Path):
+    """Per scene, the relative MSE of raw, ours and OIDN against samples a pixel (top)
+    and against time (bottom), time in samples of the path tracer: n samples cost n, the
+    filter and OIDN their measured cost more (report['cost']: at 400 x 225, in
+    proportion to the pixels as a sample is). The raw picture at 64 samples is the
+    dashed line."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cost = report["cost"]
+    extra = {"raw": 0.0, "ours": cost["samples"]["median"],
+             "oidn": cost["oidn_ms"]["median"] / cost["sample_ms"]["median"]}
+    styles = {"raw": ("raw", "0.5", "o"), "ours": ("ours (a-trous)", "tab:blue", "s"),
+              "oidn": ("OIDN", "tab:orange", "^")}
+    rows = report["rows"]
+    figure, axes = plt.subplots(2, len(rows), figsize=(3.2 * len(rows), 5.6),
+                                squeeze=False)
+    spps = [int(s) for s in SAMPLES]
+    for column, row in enumerate(rows):
+        for line, (top, bottom) in enumerate(zip(axes[0], axes[1])):
+            if line != column:
+                continue
+            for method, (label, colour, marker) in styles.items():
+                errors = [row[str(n)][method] for n in spps]
+                top.plot(spps, errors, marker=marker, color=colour, label=label)
+                bottom.plot([n + extra[method] for n in spps], errors, marker=marker,
+                            color=colour, label=label)
+            for panel in (top, bottom):
+                panel.axhline(row["raw_bar"], color="0.5", linestyle="--", linewidth=1)
+                panel.set_xscale("log", base=2)
+                panel.set_xticks(spps, [str(n) for n in spps])
+                panel.set_yscale("log")
+                panel.grid(True, which="major", alpha=0.3)
+            top.set_title(row["name"], fontsize=10)
+            top.set_xlabel("samples a pixel")
+            bottom.set_xlabel("time, in samples of the path tracer")
+    axes[0][0].set_ylabel("relative MSE")
+    axes[1][0].set_ylabel("relative MSE")
+    axes[0][0].legend(fontsize=8)
+    figure.suptitle(f"{report['machine']['cpu']} ({report['machine']['vectors']}), "
+                    f"{report['settings']['size']}², against Mitsuba at "
+                    f"{report['reference_spp']} spp; dashed: raw at {RAW_BAR} spp",
+                    fontsize=9)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+
+
 def publish(report: dict, update_book: bool = False, pages: dict = PAGES,
-            out_folder: Path = OUT):
-    """The report in out_folder (denoise.json), the table printed, and written into the
-    pages (the benchmarks page, chapter 28's) only with update_book."""
+            out_folder: Path = OUT, figure: Path = FIGURE):
+    """The report in out_folder (denoise.json) with its figure, the table printed, and
+    both written into the book (the benchmarks page, chapter 28's, the figure) only with
+    update_book."""
     table = page_table(report)
     out = out_folder / "denoise.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(report, indent=2) + "\n")
+    drawn = out_folder / figure.name
+    draw_figure(report, drawn)
     print(table)
-    print(f"bench: wrote {out}")
+    print(f"bench: wrote {out} and {drawn}")
     for page, start, end in pages.values():
         bench_common.book_or_not(update_book, page, start, end, table, report["machine"])
+    if update_book:
+        figure.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(drawn, figure)
+        print(f"bench: wrote {figure}")
 
 
 def main(binary: Path, meshes: Path, settings: Settings, update_book: bool = False,
