@@ -74,12 +74,18 @@ def table(rows: dict[str, platforms.Platform]) -> str:
 
 
 def pinned(layer: str) -> list[tuple[str, str]]:
-    """(name, version) of each package requirements/<layer>.txt pins itself."""
+    """(name, version) of each package requirements/<layer>.txt pins itself; a package
+    pinned only for some platforms (an environment marker after ';') names them after
+    its version."""
     found = []
     for line in (REQUIREMENTS / f"{layer}.txt").read_text().splitlines():
-        match = re.match(r"\s*([A-Za-z0-9_.\-]+)==(\S+)", line.split("#")[0])
+        match = re.match(r"\s*([A-Za-z0-9_.\-]+)==([^\s;]+)\s*(?:;(.*))?", line.split("#")[0])
         if match:
-            found.append((match[1], match[2]))
+            where = re.findall(r'sys_platform == "(\w+)" and platform_machine == "(\w+)"',
+                               match[3] or "")
+            only = f" (only {', '.join(f'{system} {machine}' for system, machine in where)})" \
+                if where else ""
+            found.append((match[1], match[2] + only))
     return found
 
 

@@ -182,8 +182,8 @@ def test_refuses_a_gl_32_context_with_exit_4(tmp_path, backend):
 
 
 # Common functions only the compute chapters call: the appendix must not.
-COMPUTE_ONLY = ["dispatchCovering", "workGroupSize", "bindStorage", "loadCompute",
-                "compileBeforeFirstDispatch"]
+COMPUTE_ONLY = ["dispatchCovering", "workGroupSize", "bindStorage", "bindImage",
+                "loadCompute", "compileBeforeFirstDispatch"]
 # How common/ keeps a newer call from a GL 3.3 context: a version check in the same
 # function (or a helper that makes one, checked below).
 GUARDS = ["GLAD_GL_VERSION_4_1", "GLAD_GL_VERSION_4_2", "GLAD_GL_VERSION_4_3",
