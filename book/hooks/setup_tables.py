@@ -81,10 +81,9 @@ def pinned(layer: str) -> list[tuple[str, str]]:
     for line in (REQUIREMENTS / f"{layer}.txt").read_text().splitlines():
         match = re.match(r"\s*([A-Za-z0-9_.\-]+)==([^\s;]+)\s*(?:;(.*))?", line.split("#")[0])
         if match:
-            where = re.findall(r'sys_platform == "(\w+)" and platform_machine == "(\w+)"',
-                               match[3] or "")
-            only = f" (only {', '.join(f'{system} {machine}' for system, machine in where)})" \
-                if where else ""
+            where = [f"{system} {machine}" for system, machine in re.findall(
+                r'sys_platform == "(\w+)" and platform_machine == "(\w+)"', match[3] or "")]
+            only = f" (only {', '.join(where)})" if where else ""
             found.append((match[1], match[2] + only))
     return found
 
