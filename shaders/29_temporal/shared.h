@@ -1,0 +1,340 @@
+// Numbers and structs the C++ host and the GLSL shaders must agree on. Both sides read
+// this one file: GLSL sees the structs as they are, C++ sees them in namespace gpu with
+// glm's vector types. The lines only C++ reads, its #includes among them, stand inside
+// `#ifdef __cplusplus`, which the course's shader loader passes over.
+#ifndef COURSE_SHARED_H
+#define COURSE_SHARED_H
+
+// The tree's node, as bvh.cpp writes it and the traversal reads it.
+#include "bvh_layout.h"
+
+#define PIXELS_BINDING 0     // the image: the running mean of the samples, linear RGB
+#define SPHERES_BINDING 1    // the scene's spheres
+#define TRIANGLES_BINDING 2  // its triangles, meshes included: indices of their corners
+#define QUADS_BINDING 3      // its parallelograms (walls, lights)
+#define RANDOM_BINDING 4     // each pixel's generator state: one uvec4, kept all along
+#define MATERIALS_BINDING 5  // how surfaces reflect and glow, by each shape's `material`
+#define RAY_COUNT_BINDING 6  // rays traced by each pixel so far, for the --json stats
+#define POSITIONS_BINDING 7  // the triangles' corners, in the world: one vec4 each
+#define NORMALS_BINDING 8    // the normals at those corners, unit: one vec4 each
+#define EMITTERS_BINDING 9   // the shapes that emit: what next-event estimation samples
+#define BVH_NODES_BINDING 10  // the bounding volume hierarchy over the triangles
+#define BOUNCE_START_BINDING 11  // --view bounce: each pixel's first hit, found once
+#define UVS_BINDING 12       // the meshes' texture coordinates (OBJ vt): one vec2 each
+#define TEXTURES_BINDING 13  // the scene's textures: Texture below
+#define TEXELS_BINDING 14    // every image texture's texels, linear RGB, one after another,
+                             // then the environment's radiance
+#define ENVIRONMENT_CDF_BINDING 16  // the environment's sampling tables (environment.cpp);
+                                    // 15 is the window's (course/display.h)
+#define DISPLAY_BINDING 17   // the image as the eye sees it: exposed, tone mapped (display.comp)
+// --8<-- [start:buffers]
+// The denoiser's buffers (denoiser.cpp). path.comp has no storage block left (a GL
+// need give a shader only 8, llvmpipe gives 16 and it uses them all), so it writes the
+// first two through image units, as texels of four uints; denoise.comp reads the same
+// buffers as storage blocks.
+#define FEATURES_BINDING 18      // each pixel's first surface, 3 vec4s: its albedo and
+                                 // depth, its normal, the light it emits (means)
+#define REFLECTED_BINDING 19     // each pixel's mean light reflected by that surface (the
+                                 // rest of the radiance), and of its luminance squared
+#define FILTERED_BINDING 20      // a pass's input: illumination and its variance (w)
+#define FILTERED_OUT_BINDING 21  // and its output; the host swaps the two between passes
+#define DENOISED_BINDING 22      // the picture with the albedo put back: what --out writes
+#define FEATURES_UNIT 0          // path.comp's image units: this frame's features and
+#define REFLECTED_UNIT 1         // reflected light (temporal.cpp), laid out as the two above
+// --8<-- [end:buffers]
+
+// --8<-- [start:temporal_buffers]
+// Temporal accumulation (temporal.cpp, temporal.comp): this frame's samples, and what the
+// frames before added up to (the history, seen from the camera of the frame before),
+// blended into the buffers the denoiser reads (FEATURES_BINDING, REFLECTED_BINDING).
+#define FRAME_FEATURES_BINDING 23   // this frame's means, as path.comp wrote them
+#define FRAME_REFLECTED_BINDING 24
+#define HISTORY_FEATURES_BINDING 25  // the last frame's blend
+#define HISTORY_REFLECTED_BINDING 26
+#define BLENDED_PIXELS_BINDING 27    // the blend's radiance (emitted + reflected): the
+                                     // picture with --denoise none
+#define TEMPORAL_BINDING 2           // TemporalParameters below (a uniform block)
+// --8<-- [end:temporal_buffers]
+
+// Uniform buffers have binding points of their own, apart from storage buffers'.
+#define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
+#define DENOISE_BINDING 1     // DenoiseParameters below: what a denoising pass reads
+
+// What the image shows (--view). Everything but the radiance uses one ray through each
+// pixel's centre and no randomness, so that two runs can be compared pixel by pixel.
+#define VIEW_RADIANCE 0  // the path tracer's estimate of the light (the default)
+#define VIEW_NORMALS 1   // the normal of the surface hit, 0.5 + 0.5 n; black for no hit
+#define VIEW_DISTANCE 2  // how far along the ray the hit is (PFM: metres); 0 for no hit
+#define VIEW_COST 3      // traversal steps for the ray, as a heat map (bvh_traversal.glsl)
+#define VIEW_BOUNCE 4    // random diffuse rays from the first hit: the share that travel
+                         // over a quarter of the scene (ambient occlusion); a benchmark
+#define VIEW_ALBEDO 5    // the albedo at the hit, textures looked up (PFM: exact values)
+#define VIEW_UV 6        // the texture coordinates at the hit: (fract(u), fract(v), 0)
+
+// Which estimator of the light arriving at a surface (--estimator).
+#define ESTIMATOR_NEE 0   // sample the lights only (next-event estimation)
+#define ESTIMATOR_BSDF 1  // sample the BSDF only; light counts when a ray hits it
+#define ESTIMATOR_MIS 2   // both, weighted by multiple importance sampling
+
+// The kinds of material (Material::kind): how a surface reflects.
+#define MATERIAL_DIFFUSE 0    // Lambertian: albedo / pi in every direction
+#define MATERIAL_MIRROR 1     // an ideal mirror, reflecting the fraction `albedo`
+#define MATERIAL_CONDUCTOR 2  // a metal: smooth, or rough (GGX microfacets)
+#define MATERIAL_DIELECTRIC 3  // glass: reflects and refracts; smooth, or rough (GGX)
+
+// The kinds of shape, for the nearest hit and the emitters to say which.
+#define SHAPE_SPHERE 0
+#define SHAPE_QUAD 1
+#define SHAPE_TRIANGLE 2
+#define NO_EMITTER 0xFFFFFFFFu  // a shape's `emitter` when its material does not emit
+
+// The kinds of texture (Texture::kind), and a material's `texture` when it has none.
+#define TEXTURE_IMAGE 0    // texels from an image file, filtered bilinearly
+#define TEXTURE_CHECKER 1  // squares of two colours, computed where they are looked up
+#define NO_TEXTURE -1
+
+// New rays start RAY_OFFSET * (1 + the hit's largest |coordinate|) off the surface,
+// along its normal, so that float32 rounding does not make them find the surface they
+// leave (chapter 05). Relative, like float32's precision: 0.2 mm in the 2 m Cornell box.
+#define RAY_OFFSET 1e-4
+
+// Russian roulette starts after this many bounces: the first few are cheap and carry
+// most of the light, so every path makes them.
+#define ROULETTE_AFTER 3
+
+// 8x8 tiles of invocations: neighbouring rays run together (chapter 02).
+#define TILE_SIZE 8
+
+#ifdef __cplusplus
+#include <cstddef>      // offsetof, for the static_asserts
+#include <glm/glm.hpp>  // the vector types
+namespace gpu {
+using uint = glm::uint;
+using uvec2 = glm::uvec2;
+using uvec3 = glm::uvec3;
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+#endif
+
+// --8<-- [start:structs]
+// std430 aligns a vec3 to 16 bytes but gives it only 12, so the number after each vec3
+// fills its fourth slot: exactly where C++ puts it after a 12-byte glm::vec3. Each shape
+// names its material (an index into the materials) and its emitter (its index in the
+// emitter list, or NO_EMITTER).
+struct Sphere {
+    vec3 center;
+    float radius;
+    uint material;
+    uint emitter;
+    uint unused0;  // std430 rounds the struct up to a multiple of 16 bytes, its
+    uint unused1;  // alignment: these give C++ the same 32
+};
+struct Quad {  // corners origin, origin + edge1, origin + edge1 + edge2, origin + edge2
+    vec3 origin;
+    uint material;
+    vec3 edge1;
+    uint emitter;
+    vec3 edge2;  // the front is the side cross(edge1, edge2) points to
+    uint unused;
+};
+struct Triangle {  // chapter 09's: the front is where the corners run counter-clockwise
+    uvec3 corners;        // indices into the positions
+    uint material;
+    uvec3 cornerNormals;  // indices into the normals, in the corners' order
+    uint emitter;
+    uvec3 cornerUvs;      // indices into the texture coordinates, in the corners' order
+    uint unused;
+};
+struct Material {
+    vec3 albedo;      // Lambertian: the reflected fraction; mirror: its reflectance
+    uint kind;        // MATERIAL_DIFFUSE, _MIRROR, _CONDUCTOR or _DIELECTRIC
+    vec3 emission;    // the radiance it gives out from its front; zero if none
+    float roughness;  // conductor, dielectric: the GGX alpha; 0 is smooth
+    vec3 eta;         // conductor: the complex index of refraction eta + i k, per
+                      // channel (at a red, a green and a blue wavelength)
+    float ior;        // dielectric: the index of refraction inside (outside: 1)
+    vec3 k;
+    int textureIndex;  // Lambertian: its albedo's texture (an index), or NO_TEXTURE
+};
+struct Texture {
+    uint kind;        // TEXTURE_IMAGE or TEXTURE_CHECKER
+    uint firstTexel;  // image: where its texels start in the texel buffer, row by row
+    uint width;       // image: texels across and down
+    uint height;
+    vec3 color0;      // checker: the two colours
+    float scale;      // checker: squares of each colour per unit of u and of v
+    vec3 color1;
+    uint unused;
+};
+struct Emitter {
+    uint shape;   // SHAPE_SPHERE, SHAPE_QUAD or SHAPE_TRIANGLE
+    uint index;   // into the spheres, quads or triangles
+    float area;   // its surface area: uniform sampling has the density 1 / area
+    float power;  // unused; room for picking bright lights more often
+};
+// --8<-- [end:structs]
+
+// --8<-- [start:parameters]
+// The pinhole camera of chapter 03 (eye, forward, right and up: unit vectors at right
+// angles, as the host computes them once per image in camera.cpp) with a thin lens.
+struct ThinLensCamera {
+    vec3 eye;
+    float focalLength;  // eye to sensor, in metres
+    vec3 forward;
+    float sensorWidth;  // in metres; the height follows from the image's shape
+    vec3 right;
+    float lensRadius;     // the aperture's radius in metres, round the eye; 0: a pinhole
+    vec3 up;
+    float focusDistance;  // metres along forward to the plane that is sharp
+};
+
+// What a dispatch reads besides the buffers, as one std140 uniform block: the host
+// fills this struct and uploads it before each dispatch, and GLSL sees its members as
+// global names (camera, imageSize, ...). A misspelt name fails to compile on either
+// side, where a misspelt glUniform name would set nothing and say nothing.
+#ifdef __cplusplus
+struct PathParameters {
+#else
+layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
+#endif
+    ThinLensCamera camera;
+    uvec2 imageSize;
+    uint seed;         // --seed, for seed.comp
+    uint sampleIndex;  // how many samples the image's mean holds already
+    int maxBounces;    // --depth: 1 is direct light only
+    int estimator;     // ESTIMATOR_NEE, ESTIMATOR_BSDF or ESTIMATOR_MIS
+    int view;          // VIEW_RADIANCE, VIEW_NORMALS, ... (--view)
+    uint bruteForce;   // 1 for --brute-force: every triangle, no tree (scene.glsl)
+    float occlusionDistance;  // VIEW_BOUNCE: a bounce ray going farther is "open"
+    // The environment (environment.glsl): its radiance map's place in the texels, its
+    // size (0 x 0: none), how it is turned about y, and how often next-event estimation
+    // samples it rather than an emitting shape (1 with no emitting shapes, 0 with no
+    // environment, else ENVIRONMENT_CHANCE).
+    uint environmentFirstTexel;
+    uint environmentWidth;
+    uint environmentHeight;
+    float environmentRotation;  // radians, counter-clockwise seen from above
+    float environmentChance;
+    float exposure;    // --exposure EV: the image is multiplied by 2^EV before display
+    int toneMap;       // TONE_MAP_CLAMP, _REINHARD, _ACES or _FALSE_COLOUR
+};
+
+// How radiance becomes a displayed value (--tone-map; tone_mapping.glsl).
+#define TONE_MAP_CLAMP 0         // as chapters 01-17 did: anything above 1 is white
+#define TONE_MAP_REINHARD 1      // extended Reinhard on luminance, white at REINHARD_WHITE
+#define TONE_MAP_ACES 2          // Narkowicz's fit of the ACES filmic curve, per channel
+#define TONE_MAP_FALSE_COLOUR 3  // luminance in stops about mid-grey, as colours
+#define REINHARD_WHITE 8.0       // the (exposed) luminance Reinhard shows as white
+
+// Next-event estimation's choice between the environment and the emitting shapes when
+// a scene has both: half and half, a simple split that never starves either.
+#define ENVIRONMENT_CHANCE 0.5
+// --8<-- [end:parameters]
+
+// --8<-- [start:denoise_parameters]
+// What a denoising pass does (denoise.comp), in the order the host runs them: gather the
+// mean illumination and its variance, filter (the a-trous passes, or one of the plain
+// filters the page compares), put the albedo back.
+#define STAGE_GATHER 0
+#define STAGE_FILTER 1
+#define STAGE_FINISH 2
+// Which weights a filtering pass uses (--denoise).
+#define FILTER_BOX 0       // every tap of 5 x 5 alike
+#define FILTER_GAUSSIAN 1  // the B3 spline's taps, no edges minded
+#define FILTER_FEATURES 2  // and the features' weights: depth on the plane, normals
+#define FILTER_ATROUS 3    // and the illumination's luminance against its noise
+// The first surface of a path that sees nothing: its depth (in units of the scene).
+#define DEPTH_OF_NOTHING 1.0e6
+// Black albedo has no illumination to speak of: the division uses this instead.
+#define ALBEDO_FLOOR 0.01
+
+#ifdef __cplusplus
+struct DenoiseParameters {
+#else
+layout(std140, binding = DENOISE_BINDING) uniform DenoiseParameters {
+#endif
+    uvec2 filterSize;    // the image's width and height
+    uint samples;        // how many samples the means hold
+    uint tapStep;        // pixels between a pass's taps: 1, 2, 4, ...
+    int stage;           // STAGE_GATHER, STAGE_FILTER or STAGE_FINISH
+    int filterKind;      // FILTER_BOX ... FILTER_ATROUS
+    float depthSigma;    // off the plane, in units of the plane's change over the tap
+    float normalPower;   // cos^p between normals
+    float luminanceSigma;  // in standard deviations of the luminance's noise
+    float unused0, unused1, unused2;
+};
+// --8<-- [end:denoise_parameters]
+
+// --8<-- [start:temporal_parameters]
+// What temporal.comp reads besides the buffers and PathParameters (whose camera is this
+// frame's): the camera of the frame before, and how to blend.
+#ifdef __cplusplus
+struct TemporalParameters {
+#else
+layout(std140, binding = TEMPORAL_BINDING) uniform TemporalParameters {
+#endif
+    ThinLensCamera before;  // the camera the history was seen from
+    uvec2 temporalSize;     // the image's width and height
+    uint frameSamples;      // samples this frame's means hold (k)
+    uint cameraMoved;       // 0: the same camera as before, each pixel its own history
+    uint hasHistory;        // 0 for the first frame: nothing to blend with
+    float minimumBlend;     // --blend: this frame's least share while the camera moves
+    float planeTolerance;   // off the history's plane, as a share of the distance
+    float normalAgreement;  // the least agreement of the normals (1: the same)
+};
+// --8<-- [end:temporal_parameters]
+
+#ifdef __cplusplus
+// The offsets GLSL's std430 (buffers) and std140 (the block) rules give; a C++ struct
+// that differs would scramble the scene or the camera silently, so the compiler checks.
+static_assert(sizeof(Sphere) == 32 && offsetof(Sphere, radius) == 12 &&
+                  offsetof(Sphere, material) == 16 && offsetof(Sphere, emitter) == 20,
+              "std430 Sphere");
+static_assert(sizeof(Quad) == 48 && offsetof(Quad, material) == 12 &&
+                  offsetof(Quad, edge1) == 16 && offsetof(Quad, emitter) == 28 &&
+                  offsetof(Quad, edge2) == 32 && offsetof(Quad, unused) == 44,
+              "std430 Quad: each uint fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, material) == 12 &&
+                  offsetof(Triangle, cornerNormals) == 16 && offsetof(Triangle, emitter) == 28 &&
+                  offsetof(Triangle, cornerUvs) == 32,
+              "std430 Triangle: each uint fills the fourth slot of the uvec3 before it");
+static_assert(sizeof(Material) == 64 && offsetof(Material, kind) == 12 &&
+                  offsetof(Material, emission) == 16 && offsetof(Material, roughness) == 28 &&
+                  offsetof(Material, eta) == 32 && offsetof(Material, ior) == 44 &&
+                  offsetof(Material, k) == 48 && offsetof(Material, textureIndex) == 60,
+              "std430 Material: each number fills the fourth slot of the vec3 before it");
+static_assert(sizeof(Texture) == 48 && offsetof(Texture, color0) == 16 &&
+                  offsetof(Texture, scale) == 28 && offsetof(Texture, color1) == 32,
+              "std430 Texture");
+static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, area) == 8, "std430 Emitter");
+static_assert(sizeof(ThinLensCamera) == 64 && offsetof(ThinLensCamera, focalLength) == 12 &&
+                  offsetof(ThinLensCamera, forward) == 16 &&
+                  offsetof(ThinLensCamera, sensorWidth) == 28 &&
+                  offsetof(ThinLensCamera, right) == 32 &&
+                  offsetof(ThinLensCamera, lensRadius) == 44 &&
+                  offsetof(ThinLensCamera, up) == 48 &&
+                  offsetof(ThinLensCamera, focusDistance) == 60,
+              "std140 ThinLensCamera: each number fills the fourth slot of a vec3");
+static_assert(offsetof(PathParameters, imageSize) == 64 &&
+                  offsetof(PathParameters, seed) == 72 &&
+                  offsetof(PathParameters, sampleIndex) == 76 &&
+                  offsetof(PathParameters, maxBounces) == 80 &&
+                  offsetof(PathParameters, estimator) == 84 &&
+                  offsetof(PathParameters, bruteForce) == 92 &&
+                  offsetof(PathParameters, environmentFirstTexel) == 100 &&
+                  offsetof(PathParameters, environmentChance) == 116 &&
+                  offsetof(PathParameters, exposure) == 120 &&
+                  sizeof(PathParameters) == 128,
+              "std140 PathParameters");
+static_assert(offsetof(DenoiseParameters, stage) == 16 &&
+                  offsetof(DenoiseParameters, luminanceSigma) == 32 &&
+                  sizeof(DenoiseParameters) == 48,
+              "std140 DenoiseParameters");
+static_assert(offsetof(TemporalParameters, temporalSize) == 64 &&
+                  offsetof(TemporalParameters, minimumBlend) == 84 &&
+                  sizeof(TemporalParameters) == 96,
+              "std140 TemporalParameters");
+}  // namespace gpu
+#endif
+
+#endif
