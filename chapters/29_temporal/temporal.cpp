@@ -34,7 +34,8 @@ void declareTemporalOptions(course::CommandLine& cli, TemporalOptions& options) 
 void checkTemporalOptions(const TemporalOptions& options) {
     if (!(options.blend >= 0.0f && options.blend <= 1.0f))
         course::fail(course::ExitCode::BadUsage,
-                     "--blend " + std::to_string(options.blend) + ": it is a share, from 0 to 1");
+                     "--blend " + std::to_string(options.blend) +
+                         ": it is a share, from 0 to 1");
     if (!options.framesOut.empty()) course::checkOutputPath(options.framesOut + "_01.pfm");
 }
 

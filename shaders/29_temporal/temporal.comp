@@ -206,7 +206,8 @@ void main() {
         // The spread of the depths: a mixture's variance, each part's own and how far
         // its mean lies from the blend's.
         float depth = blended.albedoDepth.w;
-        float fromHistory = history.albedoDepth.w - depth, fromFrame = frame.albedoDepth.w - depth;
+        float fromHistory = history.albedoDepth.w - depth;
+        float fromFrame = frame.albedoDepth.w - depth;
         blended.normal.w = (1.0 - a) * (history.normal.w + fromHistory * fromHistory) +
                            a * (frame.normal.w + fromFrame * fromFrame);
     }

@@ -49,7 +49,8 @@ def test_the_plane_keeps_what_depths_turn_away(painted, step):
     for tolerance in (0.02, 0.01):
         by_depth, by_plane = temporal.same_surface_rates(painted, painted.camera, step, SIZE,
                                                          tolerance)
-        print(f"{step} within {tolerance}: depths keep {by_depth:.3f}, the plane {by_plane:.3f}")
+        print(f"{step} within {tolerance}: depths keep {by_depth:.3f}, "
+              f"the plane {by_plane:.3f}")
         assert by_plane > 0.999 and by_depth < 0.98
 
 
