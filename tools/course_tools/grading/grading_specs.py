@@ -96,6 +96,13 @@ GEMS_SAMPLING = Sampling(runs=8, spp=32, reference_runs=4, reference_spp=256)
 # about a second.
 DENOISE_SAMPLING = Sampling(runs=16, spp=8, reference_runs=16, reference_spp=8)
 DENOISED = ["--denoise", "atrous"]
+# Chapter 29's blend: 16 runs a side of 6 frames, 1 sample each, the camera stepping 5 cm
+# a frame; the last frame, blended and denoised, is graded as chapter 28's denoised
+# picture is, against the solution's own. Standing still, 4 frames blend into the mean of
+# 4 samples. A moving run takes about 2 seconds.
+TEMPORAL_SAMPLING = Sampling(runs=16, spp=1, reference_runs=16, reference_spp=1)
+MOVING = ["--move-frames", "6", "--move", "0.05,0,0", *DENOISED]
+STILL = ["--move-frames", "4", *DENOISED]
 # Chapter 04's three front spheres in front of the big one, close up with a long lens:
 # where the nearest hit matters, filling the frame.
 OVERLAP_CLOSE_UP = ["--camera-look", "-0.15,-0.6,-3.3", "--focal-length", "0.1"]
@@ -442,6 +449,17 @@ SPECS: dict[str, list[GradeTest]] = {
         GradeTest("Cornell box, denoised, odd size", 4, [*ODD, "--scene", "cornell_box",
                                                          *DENOISED],
                   "denoised", "after_due_date", sampling=DENOISE_SAMPLING),
+    ],
+    # Chapter 29: the projection into the last frame's camera, the same-surface tests and
+    # the blend (temporal.comp). The camera moving, then standing still (the blend must
+    # be the plain mean: every frame weighed by the samples it holds).
+    "29": [
+        GradeTest("Cornell box, the camera moving", 6, ["--width", "96", "--height", "96",
+                                                        "--scene", "cornell_box", *MOVING],
+                  "denoised", sampling=TEMPORAL_SAMPLING),
+        GradeTest("Cornell box, the camera still", 4, [*ODD, "--scene", "cornell_box",
+                                                       *STILL],
+                  "denoised", "after_due_date", sampling=TEMPORAL_SAMPLING),
     ],
     # Appendix A1: chapter 12's path tracer in fragment-shader passes. What a student
     # writes is the pass's end: the pixel's state from the previous pass's textures,
