@@ -23,7 +23,7 @@
 int main(int argc, char** argv) {
     course::CommandLine cli("Chapter 29: temporal accumulation");
     cli.acceptScene();  // --scene NAME|FILE, default sky_showcase
-    int depth = 6, batches = 1;
+    int depth = 6;
     cli.option("--depth", "N", "surface bounces a path may make (1: direct light)", &depth,
                1, 1000);
     bool direct = false;
@@ -31,8 +31,6 @@ int main(int argc, char** argv) {
     std::string estimator = "mis";
     cli.choice("--estimator", "how light reaching a surface is found",
                {"nee", "bsdf", "mis"}, &estimator);
-    cli.option("--batches", "B", "render --spp in B groups of dispatches, waiting for "
-               "the GPU between them (the same image)", &batches, 1, 1 << 20);
     bool bruteForce = false;
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
              "(chapter 12's way: for comparisons)", &bruteForce);
@@ -48,9 +46,6 @@ int main(int argc, char** argv) {
     declareDenoiseOptions(cli, denoise);  // --denoise, --denoise-passes, --aux-out
     TemporalOptions temporal;
     declareTemporalOptions(cli, temporal);  // --blend, --move, --move-frames, --frames-out
-    bool scriptCameraMove = false;
-    cli.flag("--script-camera-move", "window mode: step forward at frame 2 (tests)",
-             &scriptCameraMove);
     return course::run(cli, argc, argv, [&](course::Session& session) {
         const course::Options& options = session.options();
         const int width = options.width, height = options.height;
@@ -145,11 +140,8 @@ int main(int argc, char** argv) {
         // with the frames before, the blend denoised.
         auto drawFrame = [&](int count) {
             samples = 0;  // this frame's own means start over; the streams go on
-            for (int batch = 0; batch < batches; ++batch) {
-                int end = count * (batch + 1) / batches;  // --batches: the same
-                while (int(samples) < end) addSample();   // dispatches, the GPU
-                course::waitForGpu();                     // idle in between
-            }
+            while (int(samples) < count) addSample();
+            course::waitForGpu();  // a frame at a time (chapter 28's --batches)
             if (blending) accumulator.blend(parameters.camera, samples);
             denoiser.run(samples);
         };
@@ -199,7 +191,6 @@ int main(int argc, char** argv) {
             lastFrame = now;
             course::FlyInput input =
                 course::readFlyInput(session.context().window(), lastCursor, seconds);
-            if (scriptCameraMove && frame == 2) input = {{0, 0, 1}, {0, 0}, 1.0f};
             fly.update(input);
             fly.eye += temporal.move;
             adjustDisplay(session.context().window(), keys, parameters);
@@ -222,6 +213,5 @@ int main(int argc, char** argv) {
             session.stats().set("samples_per_second", all / seconds);
             session.stats().set("rays_per_second", rays / seconds);
         }
-        if (scriptCameraMove) session.stats().set("camera_z", double(fly.eye.z));
     });
 }

@@ -88,10 +88,11 @@ def compile_starter(starter, chapter):
 # Chapter 19's is a quad written out as constants, and the default showcase (51 shapes)
 # is read from storage buffers; chapter 21's is the tree's walk, and the showcase has
 # no triangles; chapter 23's is the wavefront's queue, which the default megakernel
-# does not use.
+# does not use; chapter 29's is the blend of frames, and the default draws one.
 SHOWN_BY = {"14_bvh_sah": ["--view", "cost"], "19_specialisation": ["--scene", "cornell_box"],
             "21_tree_price": ["--scene", "cornell_teapot"],
-            "23_wavefront": ["--kernel", "wavefront"]}
+            "23_wavefront": ["--kernel", "wavefront"],
+            "29_temporal": ["--move-frames", "4", "--move", "0.2,0.1,-0.3", "--blend", "0.05"]}
 
 
 @pytest.mark.parametrize("chapter", released_chapters())
