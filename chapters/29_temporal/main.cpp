@@ -1,7 +1,6 @@
 // Chapter 29: temporal accumulation. Each frame's samples are blended with the frames
 // before, found again where the camera has moved (temporal.cpp, temporal.comp), and the
 // blend is denoised: a moving camera keeps a clean picture instead of starting over.
-#include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <string>
@@ -35,10 +34,9 @@ int main(int argc, char** argv) {
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
              "(chapter 12's way: for comparisons)", &bruteForce);
     std::string view = "radiance";
-    cli.choice("--view", "what the image shows: the path traced light, what the camera "
-               "rays hit (normals, distance in metres, albedo with textures, texture "
-               "coordinates uv), the traversal's work per pixel (cost) or random bounce "
-               "rays (bounce: ambient occlusion)",
+    cli.choice("--view", "what the image shows: the light, what the camera rays hit "
+               "(normals, distance in metres, albedo, texture coordinates uv), the "
+               "traversal's work (cost) or random bounce rays (ambient occlusion)",
                {"radiance", "normals", "distance", "albedo", "uv", "cost", "bounce"}, &view);
     DisplayOptions display;
     declareDisplayOptions(cli, display);  // --exposure, --tone-map
@@ -53,8 +51,7 @@ int main(int argc, char** argv) {
         checkTemporalOptions(temporal);
 
         // 1. The scene file, its meshes, images and environment, and the packed arrays
-        //    (exit code 3 on mistakes). The environment's radiance follows the images'
-        //    texels.
+        //    (exit code 3 on mistakes).
         course::SceneFile sceneFile =
             course::loadSceneFile(session.scenePath("sky_showcase"),
                                   {COURSE_GENERATED_ASSET_DIR}, kSceneSupport);
@@ -65,9 +62,8 @@ int main(int argc, char** argv) {
                        parameters);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());
-        // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
-        // other views trace at most two rays): with the tree, only spheres and quads
-        // are looped over, and its own steps are a few hundred per ray.
+        // Each bounce loops over the spheres and quads twice (nearest hit, shadow ray;
+        // the views: two rays at most); the tree's own steps are a few hundred a ray.
         size_t looped = scene.spheres.size() + scene.quads.size();
         if (bruteForce) looped = scene.shapeCount();
         size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
@@ -82,9 +78,8 @@ int main(int argc, char** argv) {
         session.stats().set("texels", double(scene.texels.size()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene (chapter 17's, and the environment's tables; each
-        //    bound by uploadScene), the image (the running mean), each pixel's random
-        //    number state and ray count.
+        // 2. Storage buffers: the scene (bound by uploadScene), the image (this frame's
+        //    running mean), each pixel's random number state and ray count.
         SceneBuffers sceneBuffers = uploadScene(scene, environment.distributions);
         course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
         course::ImageBuffer image(width, height);
@@ -97,10 +92,8 @@ int main(int argc, char** argv) {
         // --8<-- [end:upload]
 
         // --8<-- [start:dispatch]
-        // 3. Chapter 09's seeding and progressive loop, with the path tracer as the
-        //    sample. What a dispatch reads besides the buffers is one uniform block,
-        //    gpu::PathParameters (shared.h), written before each dispatch: the sample
-        //    count grows, and the fly camera may have moved.
+        // 3. Chapter 09's seeding, and frames of samples: what a dispatch reads besides
+        //    the buffers is gpu::PathParameters (shared.h), written before each one.
         course::ShaderProgram& seed = session.loadCompute("seed.comp");
         course::ShaderProgram& path = session.loadCompute("path.comp");
         const course::SceneCamera& c = sceneFile.camera;
@@ -117,11 +110,10 @@ int main(int argc, char** argv) {
         parameters.toneMap = toneMapCode(display.toneMap);
         course::GpuBuffer parameterBuffer(sizeof parameters);
         parameterBuffer.bindUniform(PARAMETERS_BINDING);
-        // The denoiser, whose buffers the path tracer writes into (the views: as they are).
-        if (view != "radiance") denoise.filter = "none";
-        Denoiser denoiser(session, width, height, denoise);
-        // The frames' blend (the views: each frame as it is), into the denoiser's inputs.
+        // The frames' blend, into the denoiser's inputs (the views: each frame as it is).
         const bool blending = view == "radiance";
+        if (!blending) denoise.filter = "none";
+        Denoiser denoiser(session, width, height, denoise);
         TemporalAccumulator accumulator(session, width, height, temporal.blend,
                                         denoiser.features(), denoiser.reflected());
         const course::ImageBuffer& picture =
@@ -136,8 +128,7 @@ int main(int argc, char** argv) {
             parameterBuffer.write(&parameters, sizeof parameters);
             path.dispatchCovering(width, height);
         };
-        // One frame: `count` samples from the camera where it is now, their means blended
-        // with the frames before, the blend denoised.
+        // One frame: `count` samples from where the camera is, blended, denoised.
         auto drawFrame = [&](int count) {
             samples = 0;  // this frame's own means start over; the streams go on
             while (int(samples) < count) addSample();
@@ -154,16 +145,14 @@ int main(int argc, char** argv) {
             for (int number = 1; number <= temporal.moveFrames; ++number) {
                 if (number > 1) fly.eye += temporal.move;
                 drawFrame(options.spp);
-                if (!temporal.framesOut.empty() && !session.isWindow())
-                    writeFrame(temporal.framesOut, number, picture);
+                writeFrame(temporal.framesOut, number, picture);  // --frames-out, if given
             }
         };
         // --8<-- [end:dispatch]
 
         // --8<-- [start:display]
-        // 4. What the eye sees: display.comp exposes and tone maps the running mean into
-        //    a second image, which the window shows and a PNG holds (sRGB-encoded); a
-        //    PFM or EXR holds the radiance itself.
+        // 4. What the eye sees: display.comp exposes and tone maps the picture for the
+        //    window and a PNG (sRGB-encoded); a PFM or EXR holds the radiance itself.
         course::ShaderProgram& toDisplay = session.loadCompute("display.comp");
         course::ImageBuffer displayed(width, height);
         displayed.pixels.bindStorage(DISPLAY_BINDING);
@@ -174,14 +163,10 @@ int main(int argc, char** argv) {
             image.pixels.bindStorage(PIXELS_BINDING);  // the path tracer's, again
         });
         // --8<-- [end:display]
-
-        // 5. Render --spp samples; headless, write the image.
-        session.timeRender(render, samples);
-
+        session.timeRender(render, samples);  // 5. The frames; headless, --out the last.
         // --8<-- [start:window]
-        // 6. Window: a frame of one sample each time, blended with the frames before;
-        //    moving the camera (or --move) finds them again where they are now; - and =
-        //    change the exposure by half a stop, T the tone mapping.
+        // 6. Window: a frame of one sample each time, blended (the camera may move, or
+        //    --move it); - and = change the exposure by half a stop, T the tone mapping.
         glm::dvec2 lastCursor(-1.0);
         course::KeyPresses keys;
         auto lastFrame = std::chrono::steady_clock::now();
@@ -189,9 +174,7 @@ int main(int argc, char** argv) {
             auto now = std::chrono::steady_clock::now();
             float seconds = std::chrono::duration<float>(now - lastFrame).count();
             lastFrame = now;
-            course::FlyInput input =
-                course::readFlyInput(session.context().window(), lastCursor, seconds);
-            fly.update(input);
+            fly.update(course::readFlyInput(session.context().window(), lastCursor, seconds));
             fly.eye += temporal.move;
             adjustDisplay(session.context().window(), keys, parameters);
             drawFrame(1);  // every frame: the picture shown is the blend, denoised
@@ -200,18 +183,17 @@ int main(int argc, char** argv) {
         session.finish(picture, render, eachFrame);
         denoiser.writeAuxiliary(samples);
 
-        // 6. Statistics: every ray the shader traced (camera, bounce and shadow rays).
+        // 7. Statistics: the last frame's rays (camera, bounce and shadow) and samples,
+        //    and its pixels that found no history.
         std::vector<uint32_t> counts = rayCounts.readAll<uint32_t>();
-        double rays = std::accumulate(counts.begin(), counts.end(), 0.0);
-        double seconds = session.stats().number("wall_ms") / 1000.0;
-        session.stats().set("samples_per_pixel", double(samples));  // the last frame's
+        session.stats().set("rays", std::accumulate(counts.begin(), counts.end(), 0.0));
+        session.stats().set("samples_per_pixel", double(samples));
         if (blending) session.stats().set("fresh_pixels", double(accumulator.freshPixels()));
-        session.stats().set("rays", rays);
-        if (!session.isWindow()) {
+        if (!session.isWindow()) {  // every frame's samples, over the whole render's time
             double all = double(width) * height * samples * temporal.moveFrames;
             session.stats().set("frames", double(temporal.moveFrames));
-            session.stats().set("samples_per_second", all / seconds);
-            session.stats().set("rays_per_second", rays / seconds);
+            session.stats().set("samples_per_second",
+                                all / (session.stats().number("wall_ms") / 1000.0));
         }
     });
 }

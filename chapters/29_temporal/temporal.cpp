@@ -101,6 +101,7 @@ int TemporalAccumulator::freshPixels() const {
 }
 
 void writeFrame(const std::string& prefix, int frame, const course::ImageBuffer& picture) {
+    if (prefix.empty()) return;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     course::Image image{picture.width, picture.height, picture.pixels.readAll<float>()};
     char number[16];

@@ -52,5 +52,6 @@ private:
     unsigned lastSamples_ = 1;
 };
 
-// --frames-out: one frame's picture as PREFIX_NN.pfm (NN from 01), its path printed.
+// --frames-out: one frame's picture as PREFIX_NN.pfm (NN from 01), its path printed;
+// nothing without a prefix.
 void writeFrame(const std::string& prefix, int frame, const course::ImageBuffer& picture);
