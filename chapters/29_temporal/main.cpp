@@ -34,9 +34,10 @@ int main(int argc, char** argv) {
     cli.flag("--brute-force", "test every triangle for every ray, without the tree "
              "(chapter 12's way: for comparisons)", &bruteForce);
     std::string view = "radiance";
-    cli.choice("--view", "what the image shows: the light, what the camera rays hit "
-               "(normals, distance in metres, albedo, texture coordinates uv), the "
-               "traversal's work (cost) or random bounce rays (ambient occlusion)",
+    cli.choice("--view", "what the image shows: the path traced light, what the camera "
+               "rays hit (normals, distance in metres, albedo with textures, texture "
+               "coordinates uv), the traversal's work per pixel (cost) or random bounce "
+               "rays (bounce: ambient occlusion)",
                {"radiance", "normals", "distance", "albedo", "uv", "cost", "bounce"}, &view);
     DisplayOptions display;
     declareDisplayOptions(cli, display);  // --exposure, --tone-map
@@ -62,8 +63,9 @@ int main(int argc, char** argv) {
                        parameters);
         course::logInfo(describeBvh(scene.bvh.stats));
         recordBvhStats(scene.bvh.stats, session.stats());
-        // Each bounce loops over the spheres and quads twice (nearest hit, shadow ray;
-        // the views: two rays at most); the tree's own steps are a few hundred a ray.
+        // Each bounce tests the shapes in loops twice (nearest hit, shadow ray; the
+        // other views trace at most two rays): with the tree, only spheres and quads
+        // are looped over, and its own steps are a few hundred per ray.
         size_t looped = scene.spheres.size() + scene.quads.size();
         if (bruteForce) looped = scene.shapeCount();
         size_t rounds = view == "radiance" ? size_t(depth) + 1 : 1;
@@ -78,8 +80,9 @@ int main(int argc, char** argv) {
         session.stats().set("texels", double(scene.texels.size()));
 
         // --8<-- [start:upload]
-        // 2. Storage buffers: the scene (bound by uploadScene), the image (this frame's
-        //    running mean), each pixel's random number state and ray count.
+        // 2. Storage buffers: the scene (chapter 17's, and the environment's tables; each
+        //    bound by uploadScene), the image (the running mean), each pixel's random
+        //    number state and ray count.
         SceneBuffers sceneBuffers = uploadScene(scene, environment.distributions);
         course::GpuBuffer bounceStarts(size_t(width) * height * 2 * sizeof(glm::vec4));
         course::ImageBuffer image(width, height);
@@ -90,7 +93,6 @@ int main(int argc, char** argv) {
         randomStates.bindStorage(RANDOM_BINDING);
         rayCounts.bindStorage(RAY_COUNT_BINDING);
         // --8<-- [end:upload]
-
         // --8<-- [start:dispatch]
         // 3. Chapter 09's seeding, and frames of samples: what a dispatch reads besides
         //    the buffers is gpu::PathParameters (shared.h), written before each one.
@@ -149,10 +151,10 @@ int main(int argc, char** argv) {
             }
         };
         // --8<-- [end:dispatch]
-
         // --8<-- [start:display]
-        // 4. What the eye sees: display.comp exposes and tone maps the picture for the
-        //    window and a PNG (sRGB-encoded); a PFM or EXR holds the radiance itself.
+        // 4. What the eye sees: display.comp exposes and tone maps the running mean into
+        //    a second image, which the window shows and a PNG holds (sRGB-encoded); a
+        //    PFM or EXR holds the radiance itself.
         course::ShaderProgram& toDisplay = session.loadCompute("display.comp");
         course::ImageBuffer displayed(width, height);
         displayed.pixels.bindStorage(DISPLAY_BINDING);
@@ -182,9 +184,7 @@ int main(int argc, char** argv) {
         // --8<-- [end:window]
         session.finish(picture, render, eachFrame);
         denoiser.writeAuxiliary(samples);
-
-        // 7. Statistics: the last frame's rays (camera, bounce and shadow) and samples,
-        //    and its pixels that found no history.
+        // 7. Statistics: the last frame's rays and samples, and its pixels without history.
         std::vector<uint32_t> counts = rayCounts.readAll<uint32_t>();
         session.stats().set("rays", std::accumulate(counts.begin(), counts.end(), 0.0));
         session.stats().set("samples_per_pixel", double(samples));

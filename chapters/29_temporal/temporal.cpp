@@ -10,7 +10,6 @@
 namespace {
 constexpr size_t kVec4 = 4 * sizeof(float);
 
-// A copy from buffer to buffer on the GPU (the blend becomes the history).
 void copyBuffer(const course::GpuBuffer& from, const course::GpuBuffer& to) {
     glBindBuffer(GL_COPY_READ_BUFFER, from.id());
     glBindBuffer(GL_COPY_WRITE_BUFFER, to.id());
@@ -24,18 +23,15 @@ void declareTemporalOptions(course::CommandLine& cli, TemporalOptions& options) 
     cli.option("--move", "X,Y,Z", "the camera's step from one frame to the next, in "
                "metres (headless with --move-frames, or each frame of the window)",
                &options.move);
-    cli.option("--move-frames", "N", "headless: draw N frames of --spp samples, the camera "
-               "stepping --move between them; --out is the last", &options.moveFrames, 1,
-               1000);
+    cli.option("--move-frames", "N", "headless: draw N frames of --spp samples, stepping "
+               "--move between them; --out is the last", &options.moveFrames, 1, 1000);
     cli.option("--frames-out", "PREFIX", "headless: also write every frame's picture, "
                "PREFIX_01.pfm, PREFIX_02.pfm, ...", &options.framesOut);
 }
 
 void checkTemporalOptions(const TemporalOptions& options) {
     if (!(options.blend >= 0.0f && options.blend <= 1.0f))
-        course::fail(course::ExitCode::BadUsage,
-                     "--blend " + std::to_string(options.blend) +
-                         ": it is a share, from 0 to 1");
+        course::fail(course::ExitCode::BadUsage, "--blend: a share, from 0 to 1");
     if (!options.framesOut.empty()) course::checkOutputPath(options.framesOut + "_01.pfm");
 }
 
@@ -65,8 +61,7 @@ TemporalAccumulator::TemporalAccumulator(course::Session& session, int width, in
 
 // --8<-- [start:blend]
 void TemporalAccumulator::blend(const gpu::ThinLensCamera& camera, unsigned samples) {
-    // Moved: any bit of the camera changed. Standing still, each pixel keeps its own
-    // history, whole, and the blend is the plain mean of every sample so far.
+    // Standing still, each pixel keeps its own history whole: the plain mean of all.
     const bool moved = hasHistory_ && std::memcmp(&camera, &before_, sizeof camera) != 0;
     gpu::TemporalParameters parameters{};
     parameters.before = before_;

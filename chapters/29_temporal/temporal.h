@@ -1,6 +1,5 @@
-// Temporal accumulation (temporal.comp): the buffers path.comp writes each frame's means
-// into, the history (the blend of the frames before, and the camera it was seen from),
-// and the blend, which the denoiser filters.
+// Temporal accumulation (temporal.comp): each frame's means, the history (the frames
+// before, and the camera that saw them) and their blend, which the denoiser filters.
 #pragma once
 #include <string>
 
@@ -28,8 +27,7 @@ public:
                         const course::GpuBuffer& blendedFeatures,
                         const course::GpuBuffer& blendedReflected);
 
-    // Blends the frame path.comp has just drawn (means of `samples` samples, seen by
-    // `camera`) with the history, which the blend then becomes.
+    // Blends the frame just drawn (`samples` samples, seen by `camera`) into the history.
     void blend(const gpu::ThinLensCamera& camera, unsigned samples);
     // The next frame has no history (a new render).
     void restart() { hasHistory_ = false; }
@@ -52,6 +50,5 @@ private:
     unsigned lastSamples_ = 1;
 };
 
-// --frames-out: one frame's picture as PREFIX_NN.pfm (NN from 01), its path printed;
-// nothing without a prefix.
+// --frames-out: a frame's picture as PREFIX_NN.pfm (NN from 01); nothing without PREFIX.
 void writeFrame(const std::string& prefix, int frame, const course::ImageBuffer& picture);

@@ -44,12 +44,10 @@ vec3 albedoAt(uint index) { return max(features[index].albedoDepth.rgb, vec3(ALB
 // --8<-- [start:gather]
 // The illumination: the mean reflected light over the mean albedo (dividing each
 // sample by its own albedo and averaging would be wrong where a pixel's samples meet
-// two surfaces: the albedo put back is their mean). Its noise: the blend of frames is
-// a weighted mean, its weights summing to 1 and their squares to s (temporal.comp; 1/n
-// for n samples alike). One sample's variance is (E[l^2] - E[l]^2) / (1 - s), and the
-// mean's is s times that: (E[l^2] - E[l]^2) / (n - 1) for n alike. Divided by the
-// albedo's luminance squared, as the light is. One sample (s = 1) says nothing of its
-// noise: call it large (spikesShared asks the neighbours).
+// two surfaces: the albedo put back is their mean). Its noise: the blend's weights sum
+// to 1, their squares to s (1/n for n alike); one sample's variance is
+// (E[l^2] - E[l]^2) / (1 - s), the mean's s times that, over the albedo's luminance
+// squared. One sample (s = 1) says nothing of its noise: call it large.
 const float ONE_SAMPLE = 0.999;  // s at or above: a single sample
 float perSampleVariance(uint index) {
     vec4 moments = reflected[index];

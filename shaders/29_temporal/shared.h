@@ -44,15 +44,13 @@
 // --8<-- [end:buffers]
 
 // --8<-- [start:temporal_buffers]
-// Temporal accumulation (temporal.cpp, temporal.comp): this frame's samples, and what the
-// frames before added up to (the history, seen from the camera of the frame before),
-// blended into the buffers the denoiser reads (FEATURES_BINDING, REFLECTED_BINDING).
+// Temporal accumulation (temporal.comp): this frame's means and the history, blended into
+// the buffers the denoiser reads (FEATURES_BINDING, REFLECTED_BINDING).
 #define FRAME_FEATURES_BINDING 23   // this frame's means, as path.comp wrote them
 #define FRAME_REFLECTED_BINDING 24
 #define HISTORY_FEATURES_BINDING 25  // the last frame's blend
 #define HISTORY_REFLECTED_BINDING 26
-#define BLENDED_PIXELS_BINDING 27    // the blend's radiance (emitted + reflected): the
-                                     // picture with --denoise none
+#define BLENDED_PIXELS_BINDING 27    // the blend's radiance: the picture, not denoised
 #define TEMPORAL_BINDING 2           // TemporalParameters below (a uniform block)
 // --8<-- [end:temporal_buffers]
 

@@ -1,10 +1,7 @@
 #version 430 core
-// Temporal accumulation: this frame's samples blended with what the frames before added up
-// to, the history. Each pixel's first surface is found in the last frame's picture through
-// the last frame's camera (reprojection); the history there counts only where it saw the
-// same surface, and then the blend weighs the two by the samples each holds, this frame at
-// least `minimumBlend` while the camera moves. Every feature is blended, and so is s, the
-// sum of the samples' weights squared: the denoiser reads the blend's noise from it.
+// Temporal accumulation: this frame's samples blended with the history (the frames before),
+// found where the last frame's camera saw each pixel's surface, if it saw the same one; the
+// two weighed by the samples each holds, and s (their weights squared, summed) carried.
 #include "shared.h"
 #include "tone_mapping.glsl"
 
@@ -12,8 +9,7 @@ layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 struct Features {
     vec4 albedoDepth;  // albedo (rgb), depth along the path (w)
     vec4 normal;       // the samples' mean normal, the variance of their depths (w)
-    vec4 emitted;      // the light the surface sends the camera itself (rgb); in the
-                       // blend and the history, s (w)
+    vec4 emitted;      // the light the surface sends the camera itself (rgb), s (w)
 };
 layout(std430, binding = FRAME_FEATURES_BINDING) readonly buffer FrameFeatures {
     Features frameFeatures[];
@@ -54,9 +50,8 @@ vec3 towardsPoint(ThinLensCamera c, vec2 point) {
                      c.up * ((0.5 - onSensor.y) * sensorHeight));
 }
 
-// Where `position` appears in camera c's picture, in pixel coordinates; false when it
-// lies behind the camera. The way back of towardsPoint: the direction's share along
-// `right` and `up`, per unit along `forward`, is the point's on the sensor per focal length.
+// Where `position` appears in camera c's picture, in pixel coordinates (false: behind the
+// camera): towardsPoint backwards, per unit along `forward`, times the focal length.
 bool inPicture(ThinLensCamera c, vec3 position, out vec2 point) {
     // BEGIN SOLUTION project into the camera of the frame before
     vec3 fromEye = position - c.eye;
@@ -74,12 +69,10 @@ bool inPicture(ThinLensCamera c, vec3 position, out vec2 point) {
 
 // --8<-- [start:same_surface]
 // Whether the history's pixel `tap` saw the surface this frame sees at `position`:
-// - the point lies on the tap's plane (through the tap's point, across its mean normal),
-//   within a share of its distance, or twice the spread of the tap's own depths (a
-//   sample lands anywhere in its pixel: a wall seen edge-on spreads far);
+// - the point lies on the tap's plane (its point, its mean normal), within a share of
+//   its distance or twice the spread of its depths (a wall seen edge-on spreads far);
 // - their normals agree, as the denoiser reads them (against the pixel's own |mean|^2);
-// - both glow or neither does: a lamp hung a centimetre below the ceiling passes the
-//   other tests, and the ceiling would take its light.
+// - both glow or neither does (given, below).
 bool sameSurface(ivec2 tap, vec3 position, Features seen, out vec3 tapPosition) {
     Features then = historyFeatures[indexOf(tap)];
     tapPosition = before.eye + towardsPoint(before, vec2(tap) + 0.5) * then.albedoDepth.w;
@@ -94,15 +87,14 @@ bool sameSurface(ivec2 tap, vec3 position, Features seen, out vec3 tapPosition) 
     if (agreement < normalAgreement) return false;
     // STUB: // (nothing turned away yet: every tap counts, whatever it saw)
     // END SOLUTION
-    // The glow, given: a lamp's rim is a few pixels, too few for a grader to see.
+    // The glow: a lamp hung 1 cm below the ceiling passes the tests above. (Given: a
+    // lamp's rim is too few pixels for a grader to see.)
     return (luminance(seen.emitted.rgb) > 0.0) == (luminance(then.emitted.rgb) > 0.0);
 }
 // --8<-- [end:same_surface]
 
-// The taps that count, summed by their shares: the features and the light, the depths
-// (as this frame's camera sees the taps' points) against a reference depth, which keeps
-// their squares small enough for floats, and s through the shares squared (the taps'
-// means are independent: a weighted mean's s is the sum of share^2 s).
+// The taps that count, summed by their shares; depths (from this frame's eye) less a
+// reference, to keep their squares small for floats; s by the shares squared.
 struct Taps {
     vec4 albedoDepth, normal, emitted, reflected;
     float depth2;  // the shares' sum of (variance + (depth - reference)^2)
@@ -166,9 +158,8 @@ void main() {
     vec4 light = frameReflected[index];
     float k = float(frameSamples);
 
-    // 1. The history: the same pixel's while the camera stands still, else what the last
-    //    frame saw where this pixel's first surface was. Along the pixel's centre ray, at
-    //    the mean depth of its samples.
+    // 1. The history: the pixel's own while the camera stands still, else where the last
+    //    frame saw this pixel's surface (its centre ray, at its samples' mean depth).
     Features history;
     vec4 historyLight;
     bool found = false;
@@ -185,10 +176,9 @@ void main() {
     }
 
     // --8<-- [start:blend]
-    // 2. The blend: this frame's share a of what the two hold together, k samples against
-    //    the history's n = 1/s (s: its weights squared, summed), at least minimumBlend;
-    //    a = 1 where there is no history. s blends exactly: the history's weights shrink
-    //    by 1 - a, this frame's k samples weigh a/k each.
+    // 2. The blend: this frame's share a, k samples against the history's n = 1/s, at
+    //    least minimumBlend (1 with no history); the history's weights shrink by 1 - a,
+    //    this frame's k samples weigh a/k each.
     float a = 1.0, s = 1.0 / k;
     // BEGIN SOLUTION the blend's share, and the new s
     if (found) {
@@ -204,8 +194,7 @@ void main() {
         blended.normal.xyz = mix(history.normal.xyz, frame.normal.xyz, a);
         blended.emitted.rgb = mix(history.emitted.rgb, frame.emitted.rgb, a);
         blendedLight = mix(historyLight, light, a);
-        // The spread of the depths: a mixture's variance, each part's own and how far
-        // its mean lies from the blend's.
+        // The depths' spread: a mixture's, each part's own and its mean's from the blend's.
         float depth = blended.albedoDepth.w;
         float fromHistory = history.albedoDepth.w - depth;
         float fromFrame = frame.albedoDepth.w - depth;
