@@ -41,8 +41,8 @@ CHAPTER_29 = [
 
     Variant(T, "the point projected with this frame's camera", False, (
         Edit(BLEND, FROM_EYE, "    c = camera;  // the camera as it is now\n" + FROM_EYE),),
-        explanation=("The history is looked up where the pixel is now, not where the last "
-                     "frame saw it: the camera's motion smears the picture."),
+        explanation=("The history is read where the pixel is now, not where the last frame "
+                     "saw it: motion smears."),
         section="Where the last frame saw it"),
     Variant(T, "the plane test left out", False, (
         Edit(BLEND, PLANE, ""),),
@@ -52,20 +52,20 @@ CHAPTER_29 = [
     Variant(T, "the picture's rows counted upwards", False, (
         Edit(BLEND, ROWS,
              "dot(fromEye, c.up) / sensorHeight) * (c.focalLength / ahead);\n"),),
-        explanation=("Row 0 is the top of the picture: counted upwards, the history is "
-                     "looked up upside down, and most of it is turned away or wrong."),
+        explanation=("Row 0 is the picture's top: counted upwards, the history is read "
+                     "upside down, and most of it is lost."),
         section="Where the last frame saw it"),
     Variant(T, "the history's share given to the frame", False, (
         Edit(BLEND, SHARE,
              "        a = max(minimumBlend, (1.0 / history.emitted.w) /\n"
              "                              (k + 1.0 / history.emitted.w));\n"),),
         explanation=("The frame's share is k / (k + n): given n / (k + n), the newest "
-                     "samples outweigh all the others, and the noise stays."),
+                     "samples outweigh the rest."),
         section="Weighing the history"),
     Variant(T, "s not carried: every blend one frame's worth", False, (
         Edit(BLEND, WEIGHTS_SQUARED, "        s = 1.0 / k;\n"),),
-        explanation=("s is what the blend is worth in samples: kept at one frame's, every "
-                     "blend is half history, half frame, and the noise stays."),
+        explanation=("s says what the blend is worth in samples: kept at one frame's, "
+                     "every blend is half frame, and noise stays."),
         section="Weighing the history"),
 ]
 

@@ -187,6 +187,19 @@ def test_a_later_chapters_copy_of_a_solution_is_taken_out():
     assert "struct Corners" in triangle  # chapter 07's own code stays
 
 
+def test_a_copy_with_a_comment_added_after_it_is_taken_out():
+    """Chapter 29 carries chapter 28's one-line block with a comment after it."""
+    code = "dispatch(STAGE_FILTER, samples, 1u << pass);"
+    block = editions.SolutionBlock("28_denoising", "chapters/28_denoising/denoiser.cpp", 80,
+                                   "the pass's taps", [f"        {code}"],
+                                   ["dispatch(STAGE_FILTER, samples, 1u);"])
+    later = f"for (;;) {{\n    {code}  // taps 1, 2, 4, ... pixels apart\n    swap();\n}}\n"
+    censored = editions.student_text(later, "chapters/29_temporal/denoiser.cpp", [block])
+    assert code not in censored
+    assert "    // TODO (chapter 28): the pass's taps\n    dispatch(STAGE_FILTER, samples, 1u);\n" \
+        "    swap();" in censored
+
+
 def test_answer_notes_are_dropped_with_everything_indented_under_them():
     page = ("## Exercises\n\n1. Why?\n\n??? answers \"Answers\"\n\n    1. Because.\n"
             "       More.\n\n    2. Also.\n\nAfter.\n")

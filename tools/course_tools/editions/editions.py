@@ -133,7 +133,9 @@ def changed_copy(lines: list[str], block: SolutionBlock) -> tuple[int, int] | No
     wanted = sum(1 for c in code if c)
     if wanted == 0:
         return None
-    matcher = difflib.SequenceMatcher(None, body, [line.strip() for line in lines],
+    # Lines compare by their code, so that a copy with a comment added after it is one.
+    matcher = difflib.SequenceMatcher(None, [code_of(line) or line.strip() for line in body],
+                                      [code_of(line) or line.strip() for line in lines],
                                       autojunk=False)
     pairs = [(i + k, j + k) for i, j, size in matcher.get_matching_blocks()
              for k in range(size) if code[i + k]]
