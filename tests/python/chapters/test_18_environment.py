@@ -72,7 +72,7 @@ def test_a_sphere_in_a_constant_environment(tmp_path, albedo):
     miss = np.linalg.norm(np.asarray(scene.camera.eye) + rays * along[..., None], axis=-1)
     sphere, background = miss < 0.9, miss > 1.1  # a pixel is 6 cm across there
     np.testing.assert_allclose(image[background], 0.75, atol=1e-6)
-    mean, error = (float(x) for x in mean_and_error(image[sphere].mean(axis=1)[:, None]))
+    mean, error = (float(x[0]) for x in mean_and_error(image[sphere].mean(axis=1)[:, None]))
     assert abs(mean - 0.75 * albedo) < SIGMAS * error + 1e-3, (mean, error)
     assert error < 0.01 * 0.75 * albedo  # the measurement can tell 1% from 0
 
