@@ -105,6 +105,18 @@ def test_the_teapot_goes_through_the_newest_chapter_with_a_bvh():
     assert not any(has_bvh[numbered.index(chosen) + 1:])
 
 
+def test_the_cornell_box_goes_through_the_newest_chapter_on_the_main_line():
+    """Not a branch: chapter 29 (temporal accumulation) reports samples over all its
+    frames and no rays a second; the speed chapters' last one is the bench's."""
+    names = chapters_built()
+    off = manifests.branches(ROOT, names)
+    assert {"28_denoising", "29_temporal"} <= off
+    chosen = bench.newest_main_line_chapter(names)
+    numbered = [n for n in names if n[:2].isdigit()]
+    assert chosen not in off
+    assert all(n in off for n in numbered[numbered.index(chosen) + 1:])
+
+
 def test_a_table_goes_into_the_page_only_when_asked(tmp_path):
     page = copy_of_the_page(tmp_path)
     before = page.read_text()

@@ -66,6 +66,14 @@ class Settings:
     repeat: int = 3
 
 
+def newest_main_line_chapter(chapters: list[str], root: Path = ROOT) -> str:
+    """The last numbered chapter that is not a branch (manifests.branches): the newest
+    speed chapter, which the Cornell box's second row measures. A branch (the media,
+    instances, motion and denoising chapters) renders what it adds, not faster."""
+    off = manifests.branches(root, chapters)
+    return [name for name in chapters if name[:2].isdigit() and name not in off][-1]
+
+
 def newest_chapter_with_bvh(chapters: list[str], root: Path = ROOT) -> str:
     """The last numbered chapter on the main line (not a branch such as the media
     chapters, which build on chapter 18 rather than on the speed chapters) whose program

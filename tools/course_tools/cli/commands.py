@@ -145,12 +145,12 @@ def cmd_bench(args):
 
 
 def bench_against_mitsuba(args) -> int:
-    """The Cornell box through chapter 12 and through the newest chapter, the teapot
-    through the newest chapter with a BVH, each against Mitsuba 3 (tools/course_tools/bench/mitsuba.py)."""
+    """The Cornell box through chapter 12 and through the newest chapter on the main
+    line, the teapot through the newest chapter with a BVH, each against Mitsuba 3 (tools/course_tools/bench/mitsuba.py)."""
     from course_tools.bench import mitsuba as bench
     with_bvh = bench.newest_chapter_with_bvh(chapters())
     box_chapter = find_chapter("12")
-    newest = [c for c in chapters() if c[:2].isdigit()][-1]
+    newest = bench.newest_main_line_chapter(chapters())
     build([box_chapter, with_bvh, newest])
     scenes = [bench.Scene("cornell_box", "Cornell box", binary(box_chapter)),
               bench.Scene("cornell_box", "Cornell box, newest chapter", binary(newest),
