@@ -196,8 +196,8 @@ def test_a_copy_with_a_comment_added_after_it_is_taken_out():
     later = f"for (;;) {{\n    {code}  // taps 1, 2, 4, ... pixels apart\n    swap();\n}}\n"
     censored = editions.student_text(later, "chapters/29_temporal/denoiser.cpp", [block])
     assert code not in censored
-    assert "    // TODO (chapter 28): the pass's taps\n    dispatch(STAGE_FILTER, samples, 1u);\n" \
-        "    swap();" in censored
+    assert ("    // TODO (chapter 28): the pass's taps\n"
+            "    dispatch(STAGE_FILTER, samples, 1u);\n    swap();") in censored
 
 
 def test_answer_notes_are_dropped_with_everything_indented_under_them():

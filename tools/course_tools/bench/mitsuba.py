@@ -66,20 +66,24 @@ class Settings:
     repeat: int = 3
 
 
-def newest_main_line_chapter(chapters: list[str], root: Path = ROOT) -> str:
-    """The last numbered chapter that is not a branch (manifests.branches): the newest
-    speed chapter, which the Cornell box's second row measures. A branch (the media,
-    instances, motion and denoising chapters) renders what it adds, not faster."""
+def main_line(chapters: list[str], root: Path = ROOT) -> list[str]:
+    """The numbered chapters that are not branches (manifests.branches: the media,
+    instances, motion and denoising chapters, which build on an earlier checkpoint
+    rather than on the speed chapters), in course order."""
     off = manifests.branches(root, chapters)
-    return [name for name in chapters if name[:2].isdigit() and name not in off][-1]
+    return [name for name in chapters if name[:2].isdigit() and name not in off]
+
+
+def newest_main_line_chapter(chapters: list[str], root: Path = ROOT) -> str:
+    """The newest speed chapter, which the Cornell box's second row measures: a branch
+    renders what it adds, not faster."""
+    return main_line(chapters, root)[-1]
 
 
 def newest_chapter_with_bvh(chapters: list[str], root: Path = ROOT) -> str:
-    """The last numbered chapter on the main line (not a branch such as the media
-    chapters, which build on chapter 18 rather than on the speed chapters) whose program
-    has --brute-force, i.e. a BVH to turn off."""
-    off = manifests.branches(root, chapters)
-    with_bvh = [name for name in chapters if name[:2].isdigit() and name not in off and
+    """The last chapter on the main line whose program has --brute-force, i.e. a BVH to
+    turn off."""
+    with_bvh = [name for name in main_line(chapters, root) if
                 "--brute-force" in (root / "chapters" / name / "main.cpp").read_text()]
     if not with_bvh:
         raise SystemExit("bench: no chapter has a BVH (--brute-force) to render the teapot")

@@ -146,7 +146,8 @@ def cmd_bench(args):
 
 def bench_against_mitsuba(args) -> int:
     """The Cornell box through chapter 12 and through the newest chapter on the main
-    line, the teapot through the newest chapter with a BVH, each against Mitsuba 3 (tools/course_tools/bench/mitsuba.py)."""
+    line, the teapot through the newest chapter with a BVH, each against Mitsuba 3
+    (tools/course_tools/bench/mitsuba.py)."""
     from course_tools.bench import mitsuba as bench
     with_bvh = bench.newest_chapter_with_bvh(chapters())
     box_chapter = find_chapter("12")

@@ -134,7 +134,7 @@ def changed_copy(lines: list[str], block: SolutionBlock) -> tuple[int, int] | No
     if wanted == 0:
         return None
     # Lines compare by their code, so that a copy with a comment added after it is one.
-    matcher = difflib.SequenceMatcher(None, [code_of(line) or line.strip() for line in body],
+    matcher = difflib.SequenceMatcher(None, [c or line for c, line in zip(code, body)],
                                       [code_of(line) or line.strip() for line in lines],
                                       autojunk=False)
     pairs = [(i + k, j + k) for i, j, size in matcher.get_matching_blocks()
