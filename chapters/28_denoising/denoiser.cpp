@@ -29,8 +29,8 @@ void declareDenoiseOptions(course::CommandLine& cli, DenoiseOptions& options) {
              "PREFIX_albedo.pfm, _normal.pfm, _depth.pfm, _depth_spread.pfm, _emitted.pfm, "
              "_illumination.pfm, _variance.pfm", &options.auxOut);
     options.weights.depthSigma = 1.0f;
-    options.weights.normalPower = 128.0f;
-    options.weights.luminanceSigma = 2.0f;
+    options.weights.normalPower = 4.0f;
+    options.weights.luminanceSigma = 1.5f;
 }
 
 Denoiser::Denoiser(course::Session& session, int width, int height,
