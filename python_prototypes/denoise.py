@@ -42,6 +42,7 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, linear RGB
 ALBEDO_FLOOR = 0.01  # black albedo has no illumination to speak of: divide by this instead
 EPSILON = 1e-10
 SPIKE_SIGMAS = 8.0  # a spike: above its neighbours' mean by this many of their spreads
+EMITTED_REACH = 3  # how far an emitter's rim looks for its brightest light and its peers
 
 
 @dataclass
@@ -213,6 +214,39 @@ def share_spikes(illumination: np.ndarray, albedo: np.ndarray,
     return colour / floored
 
 
+def emitted_filtered(emitted: np.ndarray, samples: int, reach: int = EMITTED_REACH,
+                     rim_only: bool = True) -> np.ndarray:
+    """The light the camera sees directly, (H, W, 3), exact where a pixel's samples agree;
+    at an emitter's rim (a lamp the lens blurs) a pixel sees it with a share f of its
+    `samples`, and f is chance. With L the brightest light within `reach` pixels, the
+    pixel shows f L with a coverage's variance f (1 - f) L^2 / n. Such a pixel becomes a
+    Gaussian mean (sigma reach / 2) of the (2 reach + 1)^2 pixels around it, each weighed
+    by how well its light agrees with the pixel's in units of the two's noise; a pixel
+    with all or none of its samples on the emitter keeps its own: the chapter's finish.
+    `rim_only` False plants a mistake: every pixel filtered, a sharp edge too."""
+    light = luminance(emitted)
+    brightest = np.zeros_like(light)
+    offsets = [(dy, dx) for dy in range(-reach, reach + 1) for dx in range(-reach, reach + 1)]
+    for dy, dx in offsets:
+        value, inside = shifted(light, dy, dx)
+        brightest = np.maximum(brightest, value * inside)
+
+    def coverage_variance(value):
+        return np.maximum(value * (brightest - value), 0.0) / samples
+    variance = coverage_variance(light)
+    total, weights = np.zeros_like(emitted), np.zeros_like(light)
+    for dy, dx in offsets:
+        value, inside = shifted(emitted, dy, dx)
+        tap = luminance(value)
+        noise = np.sqrt(variance + coverage_variance(tap))
+        w = inside * np.exp(-(dy * dy + dx * dx) / (2 * (reach / 2) ** 2) -
+                            np.abs(light - tap) / (noise + EPSILON))
+        total += w[..., None] * value
+        weights += w
+    rim = variance > 0.0 if rim_only else np.ones_like(variance, dtype=bool)
+    return np.where(rim[..., None], total / weights[..., None], emitted)
+
+
 def around(image: np.ndarray) -> np.ndarray:
     """A 3 x 3 Gaussian of the image, taps outside the picture left out."""
     return weighted_sum(image, [(dy, dx, GAUSS3[dy + 1] * GAUSS3[dx + 1])
@@ -252,14 +286,14 @@ def atrous_pass(illumination: np.ndarray, variance: np.ndarray, features: Featur
 def atrous(colour: np.ndarray, variance: np.ndarray, features: Features, passes: int = 3,
            sigmas: Sigmas = Sigmas(), double_step: bool = True, put_albedo_back: bool = True,
            normalise: bool = True, emitted: np.ndarray | None = None,
-           illumination: np.ndarray | None = None) -> np.ndarray:
+           illumination: np.ndarray | None = None, samples: int = 8) -> np.ndarray:
     """The whole filter: the illumination filtered `passes` times, the taps 1, 2, 4, ...
     pixels apart, the albedo multiplied back in and the light the camera sees directly
-    (`emitted`: a lamp's, never filtered) added. `variance` is the variance of the noisy
-    illumination's luminance, per pixel (of the pixel's mean, not of a sample). The
-    illumination is the colour over the albedo, or given (the chapter's own, which
-    divides the mean reflected light by the mean albedo). The three flags plant the
-    checks' mistakes."""
+    (`emitted`, from `samples` a pixel: a lamp's, filtered only at its rim) added.
+    `variance` is the variance of the noisy illumination's luminance, per pixel (of the
+    pixel's mean, not of a sample). The illumination is the colour over the albedo, or
+    given (the chapter's own, which divides the mean reflected light by the mean
+    albedo). The three flags plant the checks' mistakes."""
     if illumination is None:
         illumination = demodulate(colour, features.albedo)
     for level in range(passes):
@@ -267,7 +301,7 @@ def atrous(colour: np.ndarray, variance: np.ndarray, features: Features, passes:
         illumination, variance = atrous_pass(illumination, variance, features, step,
                                              sigmas, normalise)
     picture = remodulate(illumination, features.albedo) if put_albedo_back else illumination
-    return picture if emitted is None else picture + emitted
+    return picture if emitted is None else picture + emitted_filtered(emitted, samples)
 
 
 def relative_mse(image: np.ndarray, reference: np.ndarray) -> float:

@@ -80,8 +80,7 @@ float oneSampleVariance(ivec2 pixel) {
 // --8<-- [start:spikes]
 // A lone spike (a lucky caustic) where the features set a pixel apart (a rim) is spread by
 // no tap. Its colour above a cap, its eight neighbours' mean luminance plus SPIKE_SIGMAS of
-// their spread, is shared evenly among the pixels around it, features or not: the light
-// stays, as a faint patch rather than a dot.
+// their spread, is shared evenly with the 3 x 3 pixels around it: a faint patch, no dot.
 const float SPIKE_SIGMAS = 8.0;
 vec3 excessAt(ivec2 pixel, out float sharers) {
     float sum = 0.0, squares = 0.0, count = 0.0;
@@ -145,10 +144,8 @@ vec2 depthGradient(ivec2 pixel) {
 // - normal: how well the tap's normal agrees with the pixel's mean normal, against how
 //   well the pixel's own samples do (|mean|^2; 1 where they all agree), to a power;
 // - luminance (the a-trous filter): the tap's against the pixel's, in units of the
-//   noise of their difference. That noise is the two pixels' together, so the weight is
-//   the same seen from either side: a pixel lifted by one lucky sample (its variance
-//   large too) is let into its neighbours as far as it lets them in: its light is
-//   spread, not lost (the pixel's noise alone darkened the Cornell box by 1.3%).
+//   noise of their difference, both pixels' together: the same weight from either side,
+//   so a pixel lifted by one lucky sample spreads its light rather than losing it.
 float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, float light,
                  float lightVariance, vec4 tap) {
     ivec2 other = pixel + offset;
@@ -169,8 +166,7 @@ float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, fl
 }
 // --8<-- [end:weights]
 
-// The luminance the taps are compared with, and its variance: 3 x 3 Gaussians around
-// the pixel, not the pixel's own, whose noise would make it turn away its neighbours.
+// The luminance and variance the taps meet: 3 x 3 Gaussians (one pixel's own are noisy).
 vec2 lightAndVarianceAround(ivec2 pixel) {
     vec2 sum = vec2(0.0);
     float total = 0.0;
@@ -188,8 +184,7 @@ vec2 lightAndVarianceAround(ivec2 pixel) {
 
 // --8<-- [start:pass]
 // One pass: sum w illumination / sum w over the taps, and the variance through the
-// same weights squared (the variance of a weighted mean), so the next pass knows how
-// much noise is left.
+// weights squared (a weighted mean's), so the next pass knows how much noise is left.
 vec4 filterPass(ivec2 pixel) {
     uint index = indexOf(pixel);
     vec2 gradient = depthGradient(pixel);
@@ -214,6 +209,41 @@ vec4 filterPass(ivec2 pixel) {
 }
 // --8<-- [end:pass]
 
+// --8<-- [start:emitted]
+// The light the camera sees directly is exact where a pixel's samples agree. At an
+// emitter's rim (a lamp the lens blurs) a pixel sees it with a chance share f of its n
+// samples: f L, L the brightest light within EMITTED_REACH, with a coverage's variance
+// f (1 - f) L^2 / n. Such a pixel takes a Gaussian mean of the pixels around, weighed
+// by the luminance weight; the rest keep theirs (so a sharp edge stays).
+const int EMITTED_REACH = 3;
+vec3 emittedAt(ivec2 pixel) { return features[indexOf(pixel)].emitted.rgb; }
+float coverageVariance(ivec2 pixel, float brightest) {
+    float light = luminance(emittedAt(pixel));
+    return max(light * (brightest - light), 0.0) * features[indexOf(pixel)].emitted.w;  // s
+}
+vec3 emittedFiltered(ivec2 pixel) {
+    float brightest = 0.0, light = luminance(emittedAt(pixel)), weights = 0.0;
+    for (int y = -EMITTED_REACH; y <= EMITTED_REACH; ++y)
+        for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x)
+            if (inside(pixel + ivec2(x, y)))
+                brightest = max(brightest, luminance(emittedAt(pixel + ivec2(x, y))));
+    float variance = coverageVariance(pixel, brightest);
+    if (variance <= 0.0) return emittedAt(pixel);
+    vec3 sum = vec3(0.0);
+    for (int y = -EMITTED_REACH; y <= EMITTED_REACH; ++y)
+        for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x) {
+            ivec2 tap = pixel + ivec2(x, y);
+            if (!inside(tap)) continue;
+            float noise = sqrt(variance + coverageVariance(tap, brightest));
+            float w = exp(-float(x * x + y * y) / 4.5 -  // a Gaussian, sigma 1.5 pixels
+                          abs(light - luminance(emittedAt(tap))) / (noise + EPSILON));
+            sum += w * emittedAt(tap);
+            weights += w;
+        }
+    return sum / weights;
+}
+// --8<-- [end:emitted]
+
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (!inside(pixel)) return;
@@ -223,8 +253,8 @@ void main() {
     } else if (stage == STAGE_FILTER) {
         filteredOut[index] = filterPass(pixel);
     } else {  // STAGE_FINISH: the albedo back, as it was divided out, and the light
-              // the surface emits, which was never filtered
+              // the surface emits, filtered only at an emitter's rim
         denoised[index] = vec4(filtered[index].rgb * albedoAt(index) +
-                               features[index].emitted.rgb, 1.0);
+                               emittedFiltered(pixel), 1.0);
     }
 }
