@@ -219,17 +219,19 @@ def emitted_filtered(emitted: np.ndarray, samples: int, reach: int = EMITTED_REA
     """The light the camera sees directly, (H, W, 3), exact where a pixel's samples agree;
     at an emitter's rim (a lamp the lens blurs) a pixel sees it with a share f of its
     `samples`, and f is chance. With L the brightest light within `reach` pixels, the
-    pixel shows f L with a coverage's variance f (1 - f) L^2 / n. Such a pixel becomes a
+    pixel shows f L with a coverage's variance f (1 - f) L^2 / n, if a pixel within
+    `reach` sees no emitted light (a sky seen directly is no rim). Such a pixel becomes a
     Gaussian mean (sigma reach / 2) of the (2 reach + 1)^2 pixels around it, each weighed
     by how well its light agrees with the pixel's in units of the two's noise; a pixel
     with all or none of its samples on the emitter keeps its own: the chapter's finish.
     `rim_only` False plants a mistake: every pixel filtered, a sharp edge too."""
     light = luminance(emitted)
-    brightest = np.zeros_like(light)
+    darkest, brightest = light.copy(), light.copy()
     offsets = [(dy, dx) for dy in range(-reach, reach + 1) for dx in range(-reach, reach + 1)]
     for dy, dx in offsets:
         value, inside = shifted(light, dy, dx)
-        brightest = np.maximum(brightest, value * inside)
+        darkest = np.where(inside, np.minimum(darkest, value), darkest)
+        brightest = np.where(inside, np.maximum(brightest, value), brightest)
 
     def coverage_variance(value):
         return np.maximum(value * (brightest - value), 0.0) / samples
@@ -243,7 +245,7 @@ def emitted_filtered(emitted: np.ndarray, samples: int, reach: int = EMITTED_REA
                             np.abs(light - tap) / (noise + EPSILON))
         total += w[..., None] * value
         weights += w
-    rim = variance > 0.0 if rim_only else np.ones_like(variance, dtype=bool)
+    rim = (variance > 0.0) & (darkest <= 0.0) if rim_only else np.ones_like(light, bool)
     return np.where(rim[..., None], total / weights[..., None], emitted)
 
 

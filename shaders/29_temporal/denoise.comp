@@ -213,8 +213,8 @@ vec4 filterPass(ivec2 pixel) {
 // The light the camera sees directly is exact where a pixel's samples agree. At an
 // emitter's rim (a lamp the lens blurs) a pixel sees it with a chance share f of its n
 // samples: f L, L the brightest light within EMITTED_REACH, with a coverage's variance
-// f (1 - f) L^2 / n. Such a pixel takes a Gaussian mean of the pixels around, weighed
-// by the luminance weight; the rest keep theirs (so a sharp edge stays).
+// f (1 - f) L^2 / n, if darkness is near (a sky is no rim). Such a pixel takes a Gaussian
+// mean of the pixels around, by the luminance weight; the rest keep theirs.
 const int EMITTED_REACH = 3;
 vec3 emittedAt(ivec2 pixel) { return features[indexOf(pixel)].emitted.rgb; }
 float coverageVariance(ivec2 pixel, float brightest) {
@@ -222,13 +222,16 @@ float coverageVariance(ivec2 pixel, float brightest) {
     return max(light * (brightest - light), 0.0) * features[indexOf(pixel)].emitted.w;  // s
 }
 vec3 emittedFiltered(ivec2 pixel) {
-    float brightest = 0.0, light = luminance(emittedAt(pixel)), weights = 0.0;
+    float light = luminance(emittedAt(pixel)), darkest = light, brightest = light;
     for (int y = -EMITTED_REACH; y <= EMITTED_REACH; ++y)
-        for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x)
-            if (inside(pixel + ivec2(x, y)))
-                brightest = max(brightest, luminance(emittedAt(pixel + ivec2(x, y))));
-    float variance = coverageVariance(pixel, brightest);
-    if (variance <= 0.0) return emittedAt(pixel);
+        for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x) {
+            if (!inside(pixel + ivec2(x, y))) continue;
+            float tap = luminance(emittedAt(pixel + ivec2(x, y)));
+            darkest = min(darkest, tap);
+            brightest = max(brightest, tap);
+        }
+    float variance = coverageVariance(pixel, brightest), weights = 0.0;
+    if (variance <= 0.0 || darkest > 0.0) return emittedAt(pixel);  // not on a rim
     vec3 sum = vec3(0.0);
     for (int y = -EMITTED_REACH; y <= EMITTED_REACH; ++y)
         for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x) {

@@ -1,10 +1,8 @@
 // What the denoiser is guided by: each path's first surface that is not a mirror or
-// glass (through those, the surface they show: a mirror's reflection has edges of its
-// own), as the path found it, without noise. The means over a pixel's samples go to
-// the features buffer: its albedo, normal and depth, and the light it emits itself (a
-// lamp, the sky), which is exact and is not filtered. The rest of the path's light, the
-// light the surface reflects, goes to the reflected buffer with its luminance squared
-// (for its noise); denoise.comp divides the mean by the mean albedo.
+// glass (through those, the surface they show, whose edges are its own), without noise.
+// The means over a pixel's samples go to the features buffer: albedo, normal, depth and
+// the light the surface emits itself (a lamp, the sky); the light it reflects goes to the
+// reflected buffer with its luminance squared (for its noise).
 #include "tone_mapping.glsl"
 
 layout(rgba32ui, binding = FEATURES_UNIT) uniform uimageBuffer featureTexels;
@@ -19,10 +17,9 @@ struct SurfaceFeatures {
 
 // --8<-- [start:albedo]
 // The colour the denoiser divides out and puts back: a Lambertian surface's albedo, a
-// rough metal's reflectance head-on (its Fresnel colour), rough glass's 1 (clear: it
-// colours nothing). A material's albedo field means nothing for the last two, and a zero
-// there made their illumination (light over albedo) a hundred times too large, which
-// spilled into the pixels at their rims.
+// rough metal's reflectance head-on (its Fresnel colour), rough glass's 1 (clear). The
+// material's albedo field means nothing for the last two: a zero there made their
+// illumination (light over albedo) a hundred times too large, spilling into their rims.
 vec3 surfaceAlbedo(Material material) {
     if (material.kind == MATERIAL_DIFFUSE) return material.albedo;
     if (material.kind == MATERIAL_CONDUCTOR) {

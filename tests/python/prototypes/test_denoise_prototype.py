@@ -186,19 +186,20 @@ def lamp_seen_by(coverage, samples, rng, light=14.4):
 
 
 def test_an_emitters_rim_is_filtered_and_a_sharp_edge_kept():
-    """A lamp the lens blurs: coverage rises from 0 to 1 over 12 pixels, each pixel's
+    """A lamp the lens blurs: coverage rises from 0 to 1 over 6 pixels, each pixel's
     8 samples on it or not. Filtered, the rim's error against the true coverage falls by
-    more than a third (measured: to 52%), its light stays (the mean within 2%) and the
+    more than a fifth (measured: to 66%), its light stays (the mean within 2%) and the
     pixels all on the lamp keep their light exactly; filtering every pixel instead (a
     planted mistake) pulls them down towards the rim. A sharp edge (every pixel all on
-    the lamp or all off) is left exactly as it is."""
+    the lamp or all off) is left exactly as it is, and so is a sky seen directly (no
+    darkness near: its texture is no coverage noise)."""
     rng = np.random.default_rng(7)
-    ramp = np.clip((np.arange(40) - 14) / 12.0, 0.0, 1.0)
+    ramp = np.clip((np.arange(40) - 17) / 6.0, 0.0, 1.0)
     seen = lamp_seen_by(ramp, 8, rng)
     truth = 14.4 * ramp[None, :, None]
     filtered = denoise.emitted_filtered(seen, 8)
     raw_error = np.mean((seen - truth) ** 2)
-    assert np.mean((filtered - truth) ** 2) < 0.65 * raw_error
+    assert np.mean((filtered - truth) ** 2) < 0.75 * raw_error
     assert filtered.mean() == pytest.approx(truth.mean(), rel=0.02)
     on_the_lamp = seen[..., 0] == 14.4
     assert np.array_equal(filtered[on_the_lamp], seen[on_the_lamp])
@@ -206,3 +207,5 @@ def test_an_emitters_rim_is_filtered_and_a_sharp_edge_kept():
     assert np.abs(every_pixel - seen)[on_the_lamp].max() > 1.0
     sharp = lamp_seen_by((np.arange(40) >= 20).astype(float), 8, rng)
     assert np.array_equal(denoise.emitted_filtered(sharp, 8), sharp)
+    sky = 1.0 + 0.5 * rng.random((16, 16, 3))
+    assert np.array_equal(denoise.emitted_filtered(sky, 8), sky)
