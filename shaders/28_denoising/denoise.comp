@@ -206,7 +206,7 @@ float coverageVariance(ivec2 pixel, float brightest) {
 }
 vec3 emittedFiltered(ivec2 pixel) {
     float light = luminance(emittedAt(pixel)), darkest = light, brightest = light;
-    for (int y = -EMITTED_REACH; y <= EMITTED_REACH; ++y)
+    for (int y = -EMITTED_REACH; y <= EMITTED_REACH && light > 0.0; ++y)  // none: no rim
         for (int x = -EMITTED_REACH; x <= EMITTED_REACH; ++x) {
             if (!inside(pixel + ivec2(x, y))) continue;
             float tap = luminance(emittedAt(pixel + ivec2(x, y)));

@@ -5,8 +5,9 @@ picture and against Intel's Open Image Denoise (book/docs/maintainers.md).
   spheres with their caustics, the textured room seen through a lens): 8 samples a
   pixel, denoised, are closer to Mitsuba 3's render at 4 096 samples than the raw
   picture at 64 samples is (the issue's measure: mean((x - ref)^2 / (ref^2 + 0.01))).
-  Beside OIDN fed the same colour, albedo and normal: within 3 times its error (measured
-  1.6 to 2.5 times; the page's table).
+  Beside OIDN fed the same colour, albedo and normal: within 1.75 times its error (the
+  issue's target is 1.5, which the bench measures at 16 384 samples: 0.88 to
+  1.46 times, the page's table).
 - No light lost: a filter moves noise, not light. Each region's mean (the pixels that
   see one named shape) over the seeds stays within 2% of the reference's, or within the
   noise of the raw picture's mean from the same samples where that is larger (glass).
@@ -45,8 +46,9 @@ SCENES = ("cornell_box", "cornell_teapot", "cornell_glass", "lens_textures")
 SIZE = 160
 SEEDS = (1, 2)
 REFERENCE_SPP = 4096
-# Ours against OIDN at 8 samples (the issue's target is 1.5; measured 1.6 to 2.5).
-MOST_AGAINST_OIDN = 3.0
+# Ours against OIDN at 8 samples (the issue's target is 1.5; measured 0.88 to 1.46: a
+# margin for another Mesa's pictures and this check's reference at 4 096 samples).
+MOST_AGAINST_OIDN = 1.75
 
 # The planted bugs: (file, the right text, the wrong one). Each must fail its check.
 NOT_NORMALISED = ("denoise.comp",

@@ -9,8 +9,8 @@ the frames drawn alone and against the numpy prototype's geometry
   frame 4 on, every frame is closer than 4 samples in place without reprojection (the
   issue's measure), and, away from the lamp's rim (whose pixels one sample a frame shows
   whole or not at all), at most MOST_AGAINST_ALONE of the frame denoised alone
-  (`--blend 1`; measured 0.44 to 0.52). With the history looked up where the pixel is
-  now instead of where it was (the camera's motion left out: 0.77 at frame 4), the
+  (`--blend 1`; measured 0.44 to 0.54). With the history looked up where the pixel is
+  now instead of where it was (the camera's motion left out: 0.80 at frame 4), the
   check fails.
 - No ghosts: the boxes painted blue, the camera stepping 10 cm right and up a frame; on
   the pixels each step uncovers (the prototype finds them exactly: their surface was

@@ -98,8 +98,8 @@ def quality(binary: Path, meshes: Path, settings: Settings, folder: Path) -> lis
                 _, prefix = render(binary, folder, scene, settings.size, settings.size, spp,
                                    "atrous", seed)
                 ours.append(relative_mse(read_pfm(f"{prefix}.pfm"), reference))
-            row[spp] = {"raw": float(np.mean(raw)), "ours": float(np.mean(ours)),
-                        "oidn": float(np.mean(theirs))}
+            row[str(spp)] = {"raw": float(np.mean(raw)), "ours": float(np.mean(ours)),
+                             "oidn": float(np.mean(theirs))}  # keyed as JSON reads back
         _, prefix = render(binary, folder, scene, settings.size, settings.size, RAW_BAR,
                            "none")
         row["raw_bar"] = relative_mse(read_pfm(f"{prefix}.pfm"), reference)
@@ -148,7 +148,7 @@ def page_table(report: dict) -> str:
              "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for row in report["rows"]:
         for spp in SAMPLES:
-            cell = row[str(spp)] if str(spp) in row else row[spp]  # read back from JSON
+            cell = row[str(spp)]
             first = spp == SAMPLES[0]
             lines.append(f"| {row['name'] if first else ''} | {spp} | {cell['raw']:.5f} "
                          f"| {cell['ours']:.5f} | {cell['oidn']:.5f} "
