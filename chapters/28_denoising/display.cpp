@@ -23,6 +23,16 @@ int toneMapCode(const std::string& name) {
     return int(std::find(kToneMaps.begin(), kToneMaps.end(), name) - kToneMaps.begin());
 }
 
+int viewCode(const std::string& name) {
+    return name == "normals"    ? VIEW_NORMALS
+           : name == "distance" ? VIEW_DISTANCE
+           : name == "cost"     ? VIEW_COST
+           : name == "bounce"   ? VIEW_BOUNCE
+           : name == "albedo"   ? VIEW_ALBEDO
+           : name == "uv"       ? VIEW_UV
+                                : VIEW_RADIANCE;
+}
+
 void adjustDisplay(GLFWwindow* window, course::KeyPresses& keys,
                    gpu::PathParameters& parameters) {
     if (keys.pressed(window, course::Key::Minus)) parameters.exposure -= 0.5f;

@@ -17,6 +17,9 @@ void declareDisplayOptions(course::CommandLine& cli, DisplayOptions& options);
 // TONE_MAP_CLAMP, _REINHARD, _ACES or _FALSE_COLOUR for a --tone-map word.
 int toneMapCode(const std::string& name);
 
+// VIEW_RADIANCE, VIEW_NORMALS, ... for a --view word.
+int viewCode(const std::string& name);
+
 // Window keys: - and = change the exposure by half a stop, T steps to the next curve.
 void adjustDisplay(GLFWwindow* window, course::KeyPresses& keys,
                    gpu::PathParameters& parameters);

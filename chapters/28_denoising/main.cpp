@@ -110,15 +110,8 @@ int main(int argc, char** argv) {
         parameters.seed = options.seed;
         parameters.maxBounces = depth;
         parameters.estimator = estimator == "nee"    ? ESTIMATOR_NEE
-                               : estimator == "bsdf" ? ESTIMATOR_BSDF
-                                                     : ESTIMATOR_MIS;
-        parameters.view = view == "normals"    ? VIEW_NORMALS
-                          : view == "distance" ? VIEW_DISTANCE
-                          : view == "cost"     ? VIEW_COST
-                          : view == "bounce"   ? VIEW_BOUNCE
-                          : view == "albedo"   ? VIEW_ALBEDO
-                          : view == "uv"       ? VIEW_UV
-                                               : VIEW_RADIANCE;
+                               : estimator == "bsdf" ? ESTIMATOR_BSDF : ESTIMATOR_MIS;
+        parameters.view = viewCode(view);
         parameters.occlusionDistance = 0.25f * scene.size;
         parameters.bruteForce = bruteForce;
         parameters.exposure = display.exposure;
