@@ -288,7 +288,8 @@ def atrous_pass(illumination: np.ndarray, variance: np.ndarray, features: Featur
 def atrous(colour: np.ndarray, variance: np.ndarray, features: Features, passes: int = 3,
            sigmas: Sigmas = Sigmas(), double_step: bool = True, put_albedo_back: bool = True,
            normalise: bool = True, emitted: np.ndarray | None = None,
-           illumination: np.ndarray | None = None, samples: int = 8) -> np.ndarray:
+           illumination: np.ndarray | None = None, samples: int | None = None
+           ) -> np.ndarray:
     """The whole filter: the illumination filtered `passes` times, the taps 1, 2, 4, ...
     pixels apart, the albedo multiplied back in and the light the camera sees directly
     (`emitted`, from `samples` a pixel: a lamp's, filtered only at its rim) added.
@@ -303,7 +304,11 @@ def atrous(colour: np.ndarray, variance: np.ndarray, features: Features, passes:
         illumination, variance = atrous_pass(illumination, variance, features, step,
                                              sigmas, normalise)
     picture = remodulate(illumination, features.albedo) if put_albedo_back else illumination
-    return picture if emitted is None else picture + emitted_filtered(emitted, samples)
+    if emitted is None:
+        return picture
+    if samples is None:  # the rim's coverage noise depends on it: no default guess
+        raise ValueError("emitted light needs the samples a pixel it is the mean of")
+    return picture + emitted_filtered(emitted, samples)
 
 
 def relative_mse(image: np.ndarray, reference: np.ndarray) -> float:
