@@ -28,18 +28,13 @@ public:
     Denoiser(course::Session& session, int width, int height, const DenoiseOptions& options);
 
     bool enabled() const { return options_.filter != "none"; }
-    // The picture --out writes and the window shows: the denoised one, or the path
-    // tracer's own with --denoise none.
+    // What --out writes and the window shows: denoised, or as traced (--denoise none).
     const course::ImageBuffer& picture(const course::ImageBuffer& pathTraced) const {
         return enabled() ? denoised_ : pathTraced;
     }
-    // Filters the means of `samples` samples into picture(); its GPU time goes to the
-    // statistics as denoise_ms (the bench weighs it in samples of the path tracer).
+    // Filters the means of `samples` samples into picture(), timed as denoise_ms (--json).
     void run(unsigned samples);
-    // --aux-out PREFIX: what the filter starts from, each PFM printed: PREFIX_albedo,
-    // _normal (0.5 + 0.5 n), _depth, _depth_spread, _emitted, _illumination,
-    // _variance (of the illumination's luminance) and _history (1/s: the samples the
-    // blend is worth).
+    // --aux-out PREFIX: what the filter starts from, as PFMs (--help names them), printed.
     void writeAuxiliary(unsigned samples);
     // What it filters: the first surfaces' features and the light they reflect.
     const course::GpuBuffer& features() const { return features_; }

@@ -28,10 +28,9 @@
                                     // 15 is the window's (course/display.h)
 #define DISPLAY_BINDING 17   // the image as the eye sees it: exposed, tone mapped (display.comp)
 // --8<-- [start:buffers]
-// The denoiser's buffers (denoiser.cpp). path.comp has no storage block left (a GL
-// need give a shader only 8, llvmpipe gives 16 and it uses them all), so it writes the
-// first two through image units, as texels of four uints; denoise.comp reads the same
-// buffers as storage blocks.
+// The denoiser's buffers (denoiser.cpp). path.comp has no storage block left (a GL need
+// give a shader only 8; llvmpipe gives 16, all used), so it writes the first two through
+// image units, as texels of four uints; denoise.comp reads them as storage blocks.
 #define FEATURES_BINDING 18      // each pixel's first surface, 3 vec4s: its albedo and
                                  // depth, its normal, the light it emits (means)
 #define REFLECTED_BINDING 19     // each pixel's mean light reflected by that surface (the
@@ -219,9 +218,8 @@ layout(std140, binding = PARAMETERS_BINDING) uniform PathParameters {
 // --8<-- [end:parameters]
 
 // --8<-- [start:denoise_parameters]
-// What a denoising pass does (denoise.comp), in the order the host runs them: gather the
-// mean illumination and its variance, filter (the a-trous passes, or one of the plain
-// filters the page compares), put the albedo back.
+// A denoising dispatch's stage (denoise.comp), in the order the host runs them: gather
+// the illumination and its variance, filter (one pass), put the albedo back.
 #define STAGE_GATHER 0
 #define STAGE_FILTER 1
 #define STAGE_FINISH 2
@@ -294,9 +292,7 @@ static_assert(offsetof(PathParameters, imageSize) == 64 &&
                   offsetof(PathParameters, exposure) == 120 &&
                   sizeof(PathParameters) == 128,
               "std140 PathParameters");
-static_assert(offsetof(DenoiseParameters, stage) == 16 &&
-                  offsetof(DenoiseParameters, luminanceSigma) == 32 &&
-                  sizeof(DenoiseParameters) == 48,
+static_assert(offsetof(DenoiseParameters, stage) == 16 && sizeof(DenoiseParameters) == 48,
               "std140 DenoiseParameters");
 }  // namespace gpu
 #endif

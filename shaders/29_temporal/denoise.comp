@@ -1,20 +1,16 @@
 #version 430 core
-// The denoiser: the path tracer's mean illumination filtered by weights that stop at
-// edges, then the albedo put back. One dispatch is one stage (DenoiseParameters.stage):
-//   gather  the illumination (the reflected light's mean over the albedo's) and the
-//           variance of its luminance, from the blend's first two moments and s;
-//   filter  one pass of a 5 x 5 kernel whose taps are `tapStep` pixels apart: the
-//           edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
-//           luminance weight (Schied et al. 2017), or a plainer filter to compare;
-//   finish  the filtered illumination times the albedo: the denoised picture.
+// The denoiser, one stage a dispatch (DenoiseParameters.stage): gather the illumination
+// (the reflected light's mean over the albedo's) and the variance of its luminance,
+// from the blend's first two moments and s; filter, one pass of a 5 x 5 kernel, taps `tapStep`
+// pixels apart: the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
+// luminance weight (Schied et al. 2017), or a plainer one; finish: the albedo put back.
 #include "shared.h"
 #include "tone_mapping.glsl"
 
 layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 struct Features {
     vec4 albedoDepth;  // albedo (rgb), depth along the path (w)
-    vec4 normal;       // the mean of the samples' normals (shorter than 1 at an edge),
-                       // the variance of their depths (w)
+    vec4 normal;       // the samples' mean normal (shorter at an edge); depths' variance (w)
     vec4 emitted;      // the light the surface sends the camera itself (rgb), and s:
                        // the blend's weights squared, summed (w; temporal.comp)
 };
@@ -42,12 +38,12 @@ float depthAt(ivec2 pixel) { return features[indexOf(pixel)].albedoDepth.w; }
 vec3 albedoAt(uint index) { return max(features[index].albedoDepth.rgb, vec3(ALBEDO_FLOOR)); }
 
 // --8<-- [start:gather]
-// The illumination: the mean reflected light over the mean albedo (dividing each
-// sample by its own albedo and averaging would be wrong where a pixel's samples meet
-// two surfaces: the albedo put back is their mean). Its noise: the blend's weights sum
-// to 1, their squares to s (1/n for n alike); one sample's variance is
-// (E[l^2] - E[l]^2) / (1 - s), the mean's s times that, over the albedo's luminance
-// squared. One sample (s = 1) says nothing of its noise: call it large.
+// The illumination: the mean reflected light over the mean albedo (each sample over its
+// own albedo, then averaged, would be wrong where a pixel's samples meet two surfaces:
+// the albedo put back is their mean). Its noise: the blend's weights sum to 1, their
+// squares to s (1/n for n alike); one sample's variance is (E[l^2] - E[l]^2) / (1 - s),
+// the mean's s times that, over the albedo's luminance squared. One sample (s = 1) says
+// nothing of its noise: call it large.
 const float ONE_SAMPLE = 0.999;  // s at or above: a single sample
 float perSampleVariance(uint index) {
     vec4 moments = reflected[index];
@@ -83,21 +79,17 @@ float oneSampleVariance(ivec2 pixel) {
 // their spread, is shared evenly with the 3 x 3 pixels around it: a faint patch, no dot.
 const float SPIKE_SIGMAS = 8.0;
 vec3 excessAt(ivec2 pixel, out float sharers) {
-    float sum = 0.0, squares = 0.0, count = 0.0;
-    sharers = 0.0;
+    vec3 moments = vec3(0.0);  // the neighbours' count, luminances' sum and squares' sum
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
             ivec2 other = pixel + ivec2(x, y);
-            if (!inside(other)) continue;
-            sharers += 1.0;
-            if (x == 0 && y == 0) continue;
+            if (!inside(other) || (x == 0 && y == 0)) continue;
             float light = luminance(gathered(indexOf(other)).rgb);
-            sum += light;
-            squares += light * light;
-            count += 1.0;
+            moments += vec3(1.0, light, light * light);
         }
-    float mean = sum / count, cap = mean + SPIKE_SIGMAS * sqrt(max(squares / count -
-                                                                   mean * mean, 0.0));
+    sharers = moments.x + 1.0;  // and the pixel itself
+    float mean = moments.y / moments.x;
+    float cap = mean + SPIKE_SIGMAS * sqrt(max(moments.z / moments.x - mean * mean, 0.0));
     vec3 light = gathered(indexOf(pixel)).rgb;
     float over = luminance(light);
     return over > cap ? light * (1.0 - cap / over) * albedoAt(indexOf(pixel)) : vec3(0.0);
@@ -146,20 +138,18 @@ vec2 depthGradient(ivec2 pixel) {
 // - luminance (the a-trous filter): the tap's against the pixel's, in units of the
 //   noise of their difference, both pixels' together: the same weight from either side,
 //   so a pixel lifted by one lucky sample spreads its light rather than losing it.
-float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, float light,
-                 float lightVariance, vec4 tap) {
+float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, vec2 around,
+                 vec4 tap) {  // around: the pixel's luminance and its variance
     ivec2 other = pixel + offset;
-    float depth = depthAt(pixel);
-    float spread = sqrt(normalSpread.w);
-    float offPlane = abs(depthAt(other) - depth - dot(gradient, vec2(offset)));
-    float scale = depthSigma * (length(gradient) * length(vec2(offset)) + spread);
+    float offPlane = abs(depthAt(other) - depthAt(pixel) - dot(gradient, vec2(offset)));
+    float scale = depthSigma * (length(gradient) * length(vec2(offset)) + sqrt(normalSpread.w));
     float weight = exp(-offPlane / (scale + EPSILON));
     vec3 mean = normalSpread.xyz, otherNormal = features[indexOf(other)].normal.xyz;
     float agreement = dot(mean, otherNormal) /
                       max(dot(mean, mean) * length(otherNormal), EPSILON);
     weight *= pow(clamp(agreement, 0.0, 1.0), normalPower);
-    float lightApart = abs(light - luminance(tap.rgb));
-    float noise = sqrt(lightVariance + tap.w);
+    float lightApart = abs(around.x - luminance(tap.rgb));
+    float noise = sqrt(around.y + tap.w);
     if (filterKind == FILTER_ATROUS)
         weight *= exp(-lightApart / (luminanceSigma * noise + EPSILON));
     return weight;
@@ -168,18 +158,16 @@ float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, fl
 
 // The luminance and variance the taps meet: 3 x 3 Gaussians (one pixel's own are noisy).
 vec2 lightAndVarianceAround(ivec2 pixel) {
-    vec2 sum = vec2(0.0);
-    float total = 0.0;
+    vec3 sum = vec3(0.0);  // the weights', the luminances' and the variances' sums
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
             ivec2 other = pixel + ivec2(x, y);
             if (!inside(other)) continue;
-            float w = (x == 0 ? 0.5 : 0.25) * (y == 0 ? 0.5 : 0.25);
             vec4 tap = filtered[indexOf(other)];
-            sum += w * vec2(luminance(tap.rgb), tap.w);
-            total += w;
+            sum += (x == 0 ? 0.5 : 0.25) * (y == 0 ? 0.5 : 0.25) *
+                   vec3(1.0, luminance(tap.rgb), tap.w);
         }
-    return sum / total;
+    return sum.yz / sum.x;
 }
 
 // --8<-- [start:pass]
@@ -199,8 +187,7 @@ vec4 filterPass(ivec2 pixel) {
             vec4 tap = filtered[indexOf(pixel + offset)];
             float w = filterKind == FILTER_BOX ? 1.0 : KERNEL[x + 2] * KERNEL[y + 2];
             if (filterKind >= FILTER_FEATURES && offset != ivec2(0))  // itself: alike
-                w *= edgeWeight(pixel, offset, gradient, normalSpread, around.x, around.y,
-                                tap);
+                w *= edgeWeight(pixel, offset, gradient, normalSpread, around, tap);
             sum += w * tap.rgb;
             variance += w * w * tap.w;
             weights += w;
@@ -213,8 +200,8 @@ vec4 filterPass(ivec2 pixel) {
 // The light the camera sees directly is exact where a pixel's samples agree. At an
 // emitter's rim (a lamp the lens blurs) a pixel sees it with a chance share f of its n
 // samples: f L, L the brightest light within EMITTED_REACH, with a coverage's variance
-// f (1 - f) L^2 / n, if darkness is near (a sky is no rim). Such a pixel takes a Gaussian
-// mean of the pixels around, by the luminance weight; the rest keep theirs.
+// f (1 - f) L^2 / n, if darkness is near (a sky is no rim). Such a pixel takes a mean of
+// the pixels around, Gaussian (sigma EMITTED_REACH / 2) and by the luminance weight.
 const int EMITTED_REACH = 3;
 vec3 emittedAt(ivec2 pixel) { return features[indexOf(pixel)].emitted.rgb; }
 float coverageVariance(ivec2 pixel, float brightest) {
@@ -238,7 +225,7 @@ vec3 emittedFiltered(ivec2 pixel) {
             ivec2 tap = pixel + ivec2(x, y);
             if (!inside(tap)) continue;
             float noise = sqrt(variance + coverageVariance(tap, brightest));
-            float w = exp(-float(x * x + y * y) / 4.5 -  // a Gaussian, sigma 1.5 pixels
+            float w = exp(-2.0 * float(x * x + y * y) / float(EMITTED_REACH * EMITTED_REACH) -
                           abs(light - luminance(emittedAt(tap))) / (noise + EPSILON));
             sum += w * emittedAt(tap);
             weights += w;
@@ -255,8 +242,7 @@ void main() {
         filteredOut[index] = spikesShared(pixel);
     } else if (stage == STAGE_FILTER) {
         filteredOut[index] = filterPass(pixel);
-    } else {  // STAGE_FINISH: the albedo back, as it was divided out, and the light
-              // the surface emits, filtered only at an emitter's rim
+    } else {  // STAGE_FINISH: the albedo back, and emitted light (filtered at a rim)
         denoised[index] = vec4(filtered[index].rgb * albedoAt(index) +
                                emittedFiltered(pixel), 1.0);
     }

@@ -1,8 +1,7 @@
-// What the denoiser is guided by: each path's first surface that is not a mirror or
-// glass (through those, the surface they show, whose edges are its own), without noise.
-// The means over a pixel's samples go to the features buffer: albedo, normal, depth and
-// the light the surface emits itself (a lamp, the sky); the light it reflects goes to the
-// reflected buffer with its luminance squared (for its noise).
+// What guides the denoiser: each path's first surface that is not a mirror or glass
+// (through those, the surface they show, whose edges are its own). The means over a
+// pixel's samples go to the features buffer (albedo, normal, depth, the light it emits:
+// a lamp, the sky), the light it reflects and its luminance squared to the reflected one.
 #include "tone_mapping.glsl"
 
 layout(rgba32ui, binding = FEATURES_UNIT) uniform uimageBuffer featureTexels;
@@ -17,9 +16,8 @@ struct SurfaceFeatures {
 
 // --8<-- [start:albedo]
 // The colour the denoiser divides out and puts back: a Lambertian surface's albedo, a
-// rough metal's reflectance head-on (its Fresnel colour), rough glass's 1 (clear). The
-// material's albedo field means nothing for the last two: a zero there made their
-// illumination (light over albedo) a hundred times too large, spilling into their rims.
+// rough metal's reflectance head-on (its Fresnel colour), rough glass's 1 (clear). Their
+// albedo field means nothing: a zero there made the illumination 100 times too large.
 vec3 surfaceAlbedo(Material material) {
     if (material.kind == MATERIAL_DIFFUSE) return material.albedo;
     if (material.kind == MATERIAL_CONDUCTOR) {
