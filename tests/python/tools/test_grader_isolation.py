@@ -30,11 +30,10 @@ FAST = {"COURSE_GRADE_WALL_SECONDS": "4", "COURSE_GRADE_CPU_SECONDS": "3",
         "COURSE_GRADE_PROCESSES": "48", "COURSE_GRADE_MEMORY_MB": "1536",
         "COURSE_GRADE_OUTPUT_MB": "4"}
 
-ALL_OF_04 = list(grader.SPECS["04"])
+ALL_OF_04 = list(grader.SPECS["04"])  # before short_grading keeps only the first
 # What the sandbox adds to a run's output when it waited on a pipe that something outside
 # the run still held: the grader was kept waiting (sandbox.Sandbox.run).
 PIPE_HELD = "the output pipe stayed open"
-  # before short_grading keeps only the first
 
 pytestmark = pytest.mark.skipif(os.geteuid() != 0, reason="the grader separates users only "
                                 "when it runs as root (as on Gradescope)")
