@@ -114,8 +114,8 @@ vec2 depthGradient(ivec2 pixel) {
 // - luminance (the a-trous filter): the tap's against the pixel's, in units of the
 //   noise of their difference, both pixels' together: the same weight from either side,
 //   so a pixel lifted by one lucky sample spreads its light rather than losing it.
-float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, vec2 around,
-                 vec4 tap) {  // around: the pixel's luminance and its variance
+float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, float light,
+                 float lightVariance, vec4 tap) {
     // BEGIN SOLUTION the depth, normal and luminance weights, each from 0 to 1
     ivec2 other = pixel + offset;
     float offPlane = abs(depthAt(other) - depthAt(pixel) - dot(gradient, vec2(offset)));
@@ -125,8 +125,8 @@ float edgeWeight(ivec2 pixel, ivec2 offset, vec2 gradient, vec4 normalSpread, ve
     float agreement = dot(mean, otherNormal) /
                       max(dot(mean, mean) * length(otherNormal), EPSILON);
     weight *= pow(clamp(agreement, 0.0, 1.0), normalPower);
-    float lightApart = abs(around.x - luminance(tap.rgb));
-    float noise = sqrt(around.y + tap.w);
+    float lightApart = abs(light - luminance(tap.rgb));
+    float noise = sqrt(lightVariance + tap.w);
     if (filterKind == FILTER_ATROUS)
         weight *= exp(-lightApart / (luminanceSigma * noise + EPSILON));
     return weight;
@@ -167,7 +167,7 @@ vec4 filterPass(ivec2 pixel) {
             vec4 tap = filtered[indexOf(pixel + offset)];
             float w = filterKind == FILTER_BOX ? 1.0 : KERNEL[x + 2] * KERNEL[y + 2];
             if (filterKind >= FILTER_FEATURES && offset != ivec2(0))  // itself: alike
-                w *= edgeWeight(pixel, offset, gradient, normalSpread, around, tap);
+                w *= edgeWeight(pixel, offset, gradient, normalSpread, around.x, around.y, tap);
             sum += w * tap.rgb;
             variance += w * w * tap.w;
             weights += w;
