@@ -322,8 +322,9 @@ static_assert(offsetof(PathParameters, imageSize) == 64 &&
                   offsetof(PathParameters, exposure) == 120 &&
                   sizeof(PathParameters) == 128,
               "std140 PathParameters");
-static_assert(offsetof(DenoiseParameters, stage) == 16 && sizeof(DenoiseParameters) == 48,
-              "std140 DenoiseParameters");
+static_assert(offsetof(DenoiseParameters, stage) == 16 &&
+                  offsetof(DenoiseParameters, luminanceSigma) == 32 &&
+                  sizeof(DenoiseParameters) == 48, "std140 DenoiseParameters");
 static_assert(offsetof(TemporalParameters, temporalSize) == 64 &&
                   offsetof(TemporalParameters, minimumBlend) == 84 &&
                   sizeof(TemporalParameters) == 96,
