@@ -109,15 +109,17 @@ def load(root: Path, chapters: list[str]) -> dict[str, Manifest]:
 
 
 def branches(root: Path, chapters: list[str]) -> set[str]:
-    """The numbered chapters off the course's main line: one whose manifest names a
-    `base` other than the numbered chapter before it (24 branches from 18, as the
-    appendix does from 12), and every chapter copied from one of those (25, from 24).
-    The speed chapters (19-23) are the main line's tip."""
+    """The numbered chapters off the course's main line. The main line runs from chapter
+    01, each of its chapters built on the newest main-line chapter before it (its
+    manifest's `base`, or else the numbered chapter before it); any other chapter
+    branches off: 24 from 18, as the appendix does from 12, and 25-29 after it. The speed
+    chapters are the main line's tip: 19-23, and 30 goes on from 23."""
     numbered = [name for name in chapters if name[:2].isdigit()]
-    off = set()
+    off, tip = set(), None
     for previous, name in zip([None] + numbered, numbered):
-        base = read(root / FOLDER / f"{name}.ini").base
-        parent = base or previous
-        if (base and base != previous) or parent in off:
+        parent = read(root / FOLDER / f"{name}.ini").base or previous
+        if parent == tip:
+            tip = name
+        else:
             off.add(name)
     return off

@@ -96,7 +96,7 @@ def test_the_teapot_goes_through_the_newest_chapter_with_a_bvh():
     names = chapters_built()
     off = manifests.branches(ROOT, names)
     assert {"24_participating_media", "25_grid_media"} <= off
-    assert not any(n[:2] in ("19", "20", "21", "22", "23") for n in off)
+    assert not any(n[:2] in ("19", "20", "21", "22", "23", "30") for n in off)
     chosen = bench.newest_chapter_with_bvh(names)
     numbered = [n for n in names if n[:2].isdigit() and n not in off]
     has_bvh = ["--brute-force" in (ROOT / "chapters" / n / "main.cpp").read_text()
@@ -424,17 +424,18 @@ def test_the_speed_bench_writes_each_chapters_page_only_when_asked(tiny_speed_be
     assert "| leaves priced as run ÷ by count, the teapot |" in pages["21"]
 
 
-# ---------------------------------------------------------------- chapters 22-23's kernels bench
+# ---------------------------------------------------------------- chapters 22, 23 and 30's kernels bench
 
 @pytest.fixture(scope="module")
 def tiny_wavefront_bench(tmp_path_factory):
     """bench_wavefront with the Cornell box's rows, tiny, twice over: once without
     --update-book (on copies of the chapters' pages), once with."""
     from course_tools.bench import wavefront as bench_wavefront
-    binaries = {number: BIN / chapter_name(number) for number in ("22", "23")}
-    rows = tuple(bench_wavefront.Row(table, "cornell_box", kernel, size)
-                 for table, size in (("scenes", 16), ("sizes", 24))
-                 for kernel in bench_wavefront.KERNELS)
+    binaries = {number: BIN / chapter_name(number) for number in ("22", "23", "30")}
+    rows = tuple(bench_wavefront.Row("scenes", "cornell_box", kernel, 16)
+                 for kernel in bench_wavefront.KERNELS) \
+        + tuple(bench_wavefront.Row("sizes", "cornell_box", kernel, 24)
+                for kernel in bench_wavefront.SIZED)
     folder = tmp_path_factory.mktemp("wavefront")
     pages = page_copies(bench_wavefront.PAGES, folder)
     book_before = {n: page.read_text() for n, (page, _, _) in bench_wavefront.PAGES.items()}
@@ -458,9 +459,9 @@ def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
     report = tiny_wavefront_bench["report"]
     assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
     assert {row["kernel"] for row in report["rows"].values()} == {
-        "megakernel", "regenerating", "wavefront"}
+        "megakernel", "regenerating", "wavefront", "checked"}
     dispatches = {row["kernel"]: row["samples_per_dispatch"] for row in report["rows"].values()}
-    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1}
+    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1, "checked": 2}
     for row in report["rows"].values():
         for figure in ("samples_per_second", "rays_per_second"):
             assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
@@ -481,7 +482,10 @@ def test_the_wavefront_bench_writes_each_chapters_page_only_when_asked(tiny_wave
             "regenerating: your GPU | wavefront: this machine | wavefront: your GPU |") \
         in wavefront
     block = regeneration.split("<!-- regeneration:start -->")[1].split("<!-- regeneration:end -->")[0]
-    assert "wavefront" not in block
+    assert "wavefront" not in block and "| checked |" not in block
+    checked = tiny_wavefront_bench["pages"]["30"]
+    assert "| cornell_box | 1: diffuse | checked | 2 |" in checked
+    assert "| checked |" not in wavefront and "| wavefront |" not in checked
 
 
 def test_a_programs_statistics_are_its_last_json_line():

@@ -1,11 +1,13 @@
-"""./course bench wavefront: the figures of chapters 22 (path regeneration) and 23
-(wavefront path tracing), each the median of repeated runs that take turns, on one
-machine, in one run of the bench.
+"""./course bench wavefront: the figures of chapters 22 (path regeneration), 23
+(wavefront path tracing) and 30 (checked regeneration), each the median of repeated
+runs that take turns, on one machine, in one run of the bench.
 
 - **The kernels**: chapter 22's megakernel (one invocation follows a pixel's path to
   its end) one sample a dispatch, as chapter 21 runs it; the same megakernel
   regenerating paths (as many samples a dispatch as it chooses: its default); and
-  chapter 23's wavefront (a kernel per step over queues of paths). On scenes of one, two and four
+  chapter 23's wavefront (a kernel per step over queues of paths); and chapter 30's
+  megakernel, which regenerates paths through a tree too, its dispatches checked for
+  loops the GL cut short (the scenes only). On scenes of one, two and four
   kinds of material: the Cornell box (18 quads, diffuse), the teapot in the Cornell
   room (6 320 triangles through the tree), the glass and metal spheres in the room,
   and the sky showcase (50 spheres of every kind, the sky).
@@ -17,7 +19,8 @@ After an untimed warm-up of each row, the rows take turns for --repeat rounds; e
 figure is the median of its runs with their range. Speeds are samples per second as
 the chapters count them (--json). Writes build/bench/wavefront.json and prints the
 tables; writes them into the chapters' pages only with --update-book: the megakernel
-one sample a dispatch and regenerating into chapter 22's, every kernel into 23's."""
+one sample a dispatch and regenerating into chapter 22's, those and the wavefront into
+23's, those and the checked megakernel into 30's."""
 
 from __future__ import annotations
 
@@ -35,14 +38,20 @@ CHAPTERS = ROOT / "book" / "docs" / "chapters"
 PAGES = {"22": (CHAPTERS / "22_path_regeneration.md", "<!-- regeneration:start -->",
                 "<!-- regeneration:end -->"),
          "23": (CHAPTERS / "23_wavefront.md", "<!-- wavefront:start -->",
-                "<!-- wavefront:end -->")}
+                "<!-- wavefront:end -->"),
+         "30": (CHAPTERS / "30_checked_regeneration.md", "<!-- checked:start -->",
+                "<!-- checked:end -->")}
 OUT = ROOT / "build" / "bench"
 # The ways of running the path tracer that the bench compares: the chapter whose
 # program runs it, and its options.
 KERNELS = {"megakernel": ("22", ("--samples-per-dispatch", "1")),
            "regenerating": ("22", ()),
-           "wavefront": ("23", ("--kernel", "wavefront"))}
-SHOWN = {"22": ("megakernel", "regenerating"), "23": tuple(KERNELS)}
+           "wavefront": ("23", ("--kernel", "wavefront")),
+           "checked": ("30", ())}
+SHOWN = {"22": ("megakernel", "regenerating"),
+         "23": ("megakernel", "regenerating", "wavefront"),
+         "30": ("megakernel", "regenerating", "checked")}
+SIZED = ("megakernel", "regenerating", "wavefront")  # the kernels of the sizes table
 BASE = "megakernel"  # the speeds are given as multiples of its
 
 
@@ -70,7 +79,7 @@ SCENES = (("cornell_box", "1: diffuse"), ("cornell_teapot", "1: diffuse"),
 SIZES = (64, 256, 512)
 ROWS = tuple(Row("scenes", scene, kernel, 256) for scene, _ in SCENES for kernel in KERNELS) \
     + tuple(Row("sizes", "cornell_box", kernel, size) for size in SIZES if size != 256
-            for kernel in KERNELS)
+            for kernel in SIZED)
 
 
 @dataclass
