@@ -14,7 +14,8 @@ CheckedDispatch::CheckedDispatch(std::vector<const course::GpuBuffer*> changed, 
       check_(check), sceneFile_(std::move(sceneFile)) {
     if (check_)
         for (const course::GpuBuffer* buffer : changed_) copies_.emplace_back(buffer->bytes());
-    cutShort_.bindStorage(CUT_SHORT_BINDING);
+    // An atomic counter buffer, which path.comp can only add to (atomicCounterIncrement).
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, CUT_SHORT_BINDING, cutShort_.id());
 }
 
 // --8<-- [start:copies]

@@ -36,7 +36,7 @@ private:
     void putBack();  // copies -> changed
     std::vector<const course::GpuBuffer*> changed_;
     std::vector<course::GpuBuffer> copies_;
-    course::GpuBuffer cutShort_;  // path.comp's cutShortInvocations: one uint
+    course::GpuBuffer cutShort_;  // path.comp's atomic counter cutShortInvocations
     int samples_;
     bool check_;
     std::string sceneFile_;

@@ -16,7 +16,7 @@ layout(local_size_x = TILE_SIZE, local_size_y = TILE_SIZE) in;
 layout(std430, binding = PIXELS_BINDING) buffer Pixels { vec4 pixels[]; };
 layout(std430, binding = RANDOM_BINDING) buffer Random { RandomState randomStates[]; };
 layout(std430, binding = RAY_COUNT_BINDING) buffer RayCounts { uint rayCounts[]; };
-layout(std430, binding = CUT_SHORT_BINDING) buffer CutShort { uint cutShortInvocations; };
+layout(binding = CUT_SHORT_BINDING, offset = 0) uniform atomic_uint cutShortInvocations;
 
 // imageSize, sampleIndex, maxBounces (--depth), estimator and the camera come in the
 // PathParameters uniform block (shared.h), and so do view and occlusionDistance, and
@@ -158,6 +158,6 @@ void main() {
     // --8<-- [start:report]
     // What the invocation wrote is wrong if its loops were cut: the host, told, puts
     // back the buffers as they were before the dispatch.
-    if (loopsCutShort()) atomicAdd(cutShortInvocations, 1u);
+    if (loopsCutShort()) atomicCounterIncrement(cutShortInvocations);
     // --8<-- [end:report]
 }

@@ -27,10 +27,12 @@
 #define ENVIRONMENT_CDF_BINDING 16  // the environment's sampling tables (environment.cpp);
                                     // 15 is the window's (course/display.h)
 #define DISPLAY_BINDING 17   // the image as the eye sees it: exposed, tone mapped (display.comp)
-#define CUT_SHORT_BINDING 20  // path.comp: how many invocations the GL's loop limit cut short
 
 // Uniform buffers have binding points of their own, apart from storage buffers'.
 #define PARAMETERS_BINDING 0  // PathParameters below: what a dispatch reads besides buffers
+// So do atomic counter buffers: path.comp counts the invocations whose loops the GL cut
+// short in one, which takes none of the storage blocks (16 on llvmpipe, all in use).
+#define CUT_SHORT_BINDING 0
 // --8<-- [start:memory]
 // The ways the shaders can read the scene (scene_memory.glsl), for SCENE_MEMORY (the
 // spheres, quads, materials, emitters) and BVH_MEMORY (nodes, triangles, corners).
