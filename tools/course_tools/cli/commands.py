@@ -141,6 +141,13 @@ def cmd_bench(args):
         gl = last_json_line(probe.stdout, "chapter 01")
         status |= bench_grading.main(BUILD, graded, args.repeat, gl["renderer"],
                                      gl["gl_version"], update_book=args.update_book)
+    if args.which == "cost":  # needs valgrind, and minutes: asked for by name only
+        from course_tools.bench import cost as bench_cost
+        from course_tools.bench.mitsuba import newest_chapter_with_bvh
+        with_bvh = newest_chapter_with_bvh(chapters())
+        build([with_bvh])
+        status |= bench_cost.main(binary(with_bvh), args.shader_dirs,
+                                  update_book=args.update_book)
     sys.exit(status)
 
 

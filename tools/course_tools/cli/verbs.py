@@ -92,7 +92,7 @@ def book_options(parser: argparse.ArgumentParser):
 def bench_options(parser: argparse.ArgumentParser):
     parser.add_argument(
         "which", nargs="?", choices=["all", "mitsuba", "bvh", "speed", "wavefront", "instances",
-                            "denoise", "grading"],
+                            "denoise", "grading", "cost"],
         default="all", help="which benchmark (default: mitsuba, bvh, speed, wavefront, "
         "instances and denoise; "
         "mitsuba: the Cornell box through chapter 12 and the newest chapter, the teapot "
@@ -103,8 +103,12 @@ def bench_options(parser: argparse.ArgumentParser):
         "10 000 teapots against one, and chapter 27's twisting teapot, refitted against "
         "rebuilt; denoise: chapter 28's filter against the raw picture and Open Image Denoise "
         "on four scenes, and its cost in samples a pixel; grading: one submission of each "
-        "chapter on one core)")
+        "chapter on one core; cost: instructions a sample, counted by valgrind through the "
+        "newest chapter with a BVH, with --shader-dirs to compare changed shaders)")
     parser.add_argument("--chapters", nargs="*", help="grading: only these chapters")
+    parser.add_argument("--shader-dirs", nargs="*", default=[],
+                        help="cost: folders of changed copies of the chapter's shaders, "
+                        "each counted against the chapter's own")
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each figure (gradings per chapter): the median and "
                         "the range are reported (3)")
