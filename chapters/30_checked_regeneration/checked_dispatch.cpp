@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>  // std::move
 
 #include "course/error.h"
 #include "course/gl.h"
@@ -21,16 +22,18 @@ CheckedDispatch::CheckedDispatch(std::vector<const course::GpuBuffer*> changed, 
 // --8<-- [start:copies]
 // A copy from buffer to buffer stays on the GPU: no trip through the CPU's memory.
 static void copyBuffer(const course::GpuBuffer& from, const course::GpuBuffer& to) {
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the shaders' writes first
     glBindBuffer(GL_COPY_READ_BUFFER, from.id());
     glBindBuffer(GL_COPY_WRITE_BUFFER, to.id());
     glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
                         static_cast<GLsizeiptr>(from.bytes()));
 }
+// Both wait, once for all their copies, for what the shaders wrote before them.
 void CheckedDispatch::keep() {
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     for (size_t i = 0; i < changed_.size(); ++i) copyBuffer(*changed_[i], copies_[i]);
 }
 void CheckedDispatch::putBack() {
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     for (size_t i = 0; i < changed_.size(); ++i) copyBuffer(copies_[i], *changed_[i]);
 }
 // --8<-- [end:copies]
