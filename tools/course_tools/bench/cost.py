@@ -89,13 +89,20 @@ def count(valgrind: str, binary: Path, row: Row, work: Path) -> dict:
                                              stderr=subprocess.PIPE, text=True,
                                              env=counting_environment()))
     counted, stats = {}, {}
-    for spp, (words, process) in runs.items():
-        stdout, stderr = process.communicate()
-        what = " ".join(words)
-        if process.returncode != 0:
-            raise SystemExit(f"bench cost: {what} failed ({process.returncode}):\n"
-                             f"{stderr[-2000:]}")
-        counted[spp], stats[spp] = instructions(stderr, what), last_json_line(stdout, what)
+    try:
+        for spp, (words, process) in runs.items():
+            stdout, stderr = process.communicate()
+            what = " ".join(words)
+            if process.returncode != 0:
+                raise SystemExit(f"bench cost: {what} failed ({process.returncode}):\n"
+                                 f"{stderr[-2000:]}")
+            counted[spp] = instructions(stderr, what)
+            stats[spp] = last_json_line(stdout, what)
+    finally:  # a run that failed leaves no other counting on for a minute
+        for _, process in runs.values():
+            if process.poll() is None:
+                process.kill()
+                process.wait()
     redone = sum(int(stats[spp].get("dispatches_redone", 0)) for spp in stats)
     if redone:  # a dispatch run twice is counted twice: the difference means nothing
         raise SystemExit(f"bench cost: {row.scene}: {redone} dispatches were cut short and "
