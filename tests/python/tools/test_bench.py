@@ -424,14 +424,14 @@ def test_the_speed_bench_writes_each_chapters_page_only_when_asked(tiny_speed_be
     assert "| leaves priced as run ÷ by count, the teapot |" in pages["21"]
 
 
-# ---------------------------------------------------------------- chapters 22, 23 and 30's kernels bench
+# ---------------------------------------------------------------- chapters 22, 23, 30 and 31's kernels bench
 
 @pytest.fixture(scope="module")
 def tiny_wavefront_bench(tmp_path_factory):
     """bench_wavefront with the Cornell box's rows, tiny, twice over: once without
     --update-book (on copies of the chapters' pages), once with."""
     from course_tools.bench import wavefront as bench_wavefront
-    binaries = {number: BIN / chapter_name(number) for number in ("22", "23", "30")}
+    binaries = {number: BIN / chapter_name(number) for number in ("22", "23", "30", "31")}
     rows = tuple(bench_wavefront.Row("scenes", "cornell_box", kernel, 16)
                  for kernel in bench_wavefront.KERNELS) \
         + tuple(bench_wavefront.Row("sizes", "cornell_box", kernel, 24)
@@ -459,9 +459,10 @@ def test_the_wavefront_bench_gives_medians_of_the_runs(tiny_wavefront_bench):
     report = tiny_wavefront_bench["report"]
     assert report["machine"]["mesa"] and report["settings"]["repeat"] == 2
     assert {row["kernel"] for row in report["rows"].values()} == {
-        "megakernel", "regenerating", "wavefront", "checked"}
+        "megakernel", "regenerating", "wavefront", "checked", "stackless"}
     dispatches = {row["kernel"]: row["samples_per_dispatch"] for row in report["rows"].values()}
-    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1, "checked": 2}
+    assert dispatches == {"megakernel": 1, "regenerating": 2, "wavefront": 1, "checked": 2,
+                          "stackless": 2}
     for row in report["rows"].values():
         for figure in ("samples_per_second", "rays_per_second"):
             assert set(row[figure]) == SUMMARY_KEYS and len(row[figure]["runs"]) == 2
@@ -486,6 +487,27 @@ def test_the_wavefront_bench_writes_each_chapters_page_only_when_asked(tiny_wave
     checked = tiny_wavefront_bench["pages"]["30"]
     assert "| cornell_box | 1: diffuse | checked | 2 |" in checked
     assert "| checked |" not in wavefront and "| wavefront |" not in checked
+    # Chapter 31's page: the checked and the stackless kernel, as multiples of the
+    # checked one's, and no sizes table (those kernels are not run at other sizes).
+    stackless = tiny_wavefront_bench["pages"]["31"]
+    block = stackless.split("<!-- stackless:start -->")[1].split("<!-- stackless:end -->")[0]
+    assert "| cornell_box | 1: diffuse | stackless | 2 |" in block
+    assert "| cornell_box | 1: diffuse | checked | 2 |" in block and "÷ checked |" in block
+    assert "| megakernel |" not in block and "24²" not in block
+
+
+def test_the_wavefront_bench_gives_the_million_triangle_teapots_ratio():
+    from course_tools.bench import wavefront as bench_wavefront
+
+    def row(rays):
+        return {"rays_per_second": {"median": rays}}
+    report = {"rows": {"scenes: cornell_teapot: 256: checked": row(4.0e6),
+                       "scenes: cornell_teapot_million: 256: checked": row(2.0e6),
+                       "scenes: cornell_teapot: 256: stackless": row(5.0e6),
+                       "scenes: cornell_teapot_million: 256: stackless": row(3.5e6)}}
+    lines = bench_wavefront.million_lines(report, ("checked", "stackless"))
+    assert lines[0].endswith("÷ the teapot's: checked 0.50, stackless 0.70.")
+    assert bench_wavefront.million_lines(report, ("megakernel",)) == []
 
 
 def test_a_programs_statistics_are_its_last_json_line():

@@ -1,13 +1,16 @@
 """./course bench wavefront: the figures of chapters 22 (path regeneration), 23
-(wavefront path tracing) and 30 (checked regeneration), each the median of repeated
-runs that take turns, on one machine, in one run of the bench.
+(wavefront path tracing), 30 (checked regeneration) and 31 (a tree without a stack),
+each the median of repeated runs that take turns, on one machine, in one run of the
+bench.
 
 - **The kernels**: chapter 22's megakernel (one invocation follows a pixel's path to
   its end) one sample a dispatch, as chapter 21 runs it; the same megakernel
   regenerating paths (as many samples a dispatch as it chooses: its default); and
   chapter 23's wavefront (a kernel per step over queues of paths); and chapter 30's
   megakernel, which regenerates paths through a tree too, its dispatches checked for
-  loops the GL cut short (the scenes only). On scenes of one, two and four
+  loops the GL cut short (the scenes only); and chapter 31's, the same megakernel
+  walking the tree without a stack (the scenes only, and the million-triangle teapot,
+  with chapter 30's beside it). On scenes of one, two and four
   kinds of material: the Cornell box (18 quads, diffuse), the teapot in the Cornell
   room (6 320 triangles through the tree), the glass and metal spheres in the room,
   and the sky showcase (50 spheres of every kind, the sky).
@@ -20,7 +23,8 @@ figure is the median of its runs with their range. Speeds are samples per second
 the chapters count them (--json). Writes build/bench/wavefront.json and prints the
 tables; writes them into the chapters' pages only with --update-book: the megakernel
 one sample a dispatch and regenerating into chapter 22's, those and the wavefront into
-23's, those and the checked megakernel into 30's."""
+23's, those and the checked megakernel into 30's, the checked and the stackless one
+into 31's (as multiples of the checked one's)."""
 
 from __future__ import annotations
 
@@ -40,19 +44,24 @@ PAGES = {"22": (CHAPTERS / "22_path_regeneration.md", "<!-- regeneration:start -
          "23": (CHAPTERS / "23_wavefront.md", "<!-- wavefront:start -->",
                 "<!-- wavefront:end -->"),
          "30": (CHAPTERS / "30_checked_regeneration.md", "<!-- checked:start -->",
-                "<!-- checked:end -->")}
+                "<!-- checked:end -->"),
+         "31": (CHAPTERS / "31_stackless_tree.md", "<!-- stackless:start -->",
+                "<!-- stackless:end -->")}
 OUT = ROOT / "build" / "bench"
 # The ways of running the path tracer that the bench compares: the chapter whose
 # program runs it, and its options.
 KERNELS = {"megakernel": ("22", ("--samples-per-dispatch", "1")),
            "regenerating": ("22", ()),
            "wavefront": ("23", ("--kernel", "wavefront")),
-           "checked": ("30", ())}
+           "checked": ("30", ()),
+           "stackless": ("31", ())}
 SHOWN = {"22": ("megakernel", "regenerating"),
          "23": ("megakernel", "regenerating", "wavefront"),
-         "30": ("megakernel", "regenerating", "checked")}
+         "30": ("megakernel", "regenerating", "checked"),
+         "31": ("checked", "stackless")}
 SIZED = ("megakernel", "regenerating", "wavefront")  # the kernels of the sizes table
-BASE = "megakernel"  # the speeds are given as multiples of its
+# Each page gives the speeds as multiples of this kernel's.
+BASES = {"22": "megakernel", "23": "megakernel", "30": "megakernel", "31": "checked"}
 
 
 @dataclass(frozen=True)
@@ -77,7 +86,14 @@ class Row:
 SCENES = (("cornell_box", "1: diffuse"), ("cornell_teapot", "1: diffuse"),
           ("cornell_glass", "2: diffuse, glass"), ("sky_showcase", "4: every kind"))
 SIZES = (64, 256, 512)
+# A scene only the kernels that walk a tree with many samples a dispatch run: the
+# million-triangle teapot, whose rays a second chapter 31's page compares with the
+# teapot's.
+TREES_ONLY = (("cornell_teapot_million", "1: diffuse"),)
+TREE_KERNELS = ("checked", "stackless")
 ROWS = tuple(Row("scenes", scene, kernel, 256) for scene, _ in SCENES for kernel in KERNELS) \
+    + tuple(Row("scenes", scene, kernel, 256) for scene, _ in TREES_ONLY
+            for kernel in TREE_KERNELS) \
     + tuple(Row("sizes", "cornell_box", kernel, size) for size in SIZES if size != 256
             for kernel in SIZED)
 
@@ -119,17 +135,22 @@ def speed(report: dict, table: str, scene: str, size: int, kernel: str) -> dict:
     return report["rows"][f"{table}: {scene}: {size}: {kernel}"]["samples_per_second"]
 
 
-def table(report: dict, which: str, kernels: tuple) -> list[str]:
-    kinds = dict(SCENES)
+def has(report: dict, table: str, scene: str, size: int, kernel: str) -> bool:
+    return f"{table}: {scene}: {size}: {kernel}" in report["rows"]
+
+
+def table(report: dict, which: str, kernels: tuple, base_kernel: str) -> list[str]:
+    kinds = dict(SCENES + TREES_ONLY)
     first = "kinds of material" if which == "scenes" else "image"
     lines = [f"| scene | {first} | kernel | samples a dispatch | samples/s | "
-             f"range of the runs (spread) | rays/s | ÷ {BASE} |",
+             f"range of the runs (spread) | rays/s | ÷ {base_kernel} |",
              "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |"]
     for row in report["rows"].values():
-        if row["table"] != which or row["kernel"] not in kernels:
+        if row["table"] != which or row["kernel"] not in kernels or \
+                not has(report, which, row["scene"], row["size"], base_kernel):
             continue
         samples = row["samples_per_second"]
-        base = speed(report, which, row["scene"], row["size"], BASE)["median"]
+        base = speed(report, which, row["scene"], row["size"], base_kernel)["median"]
         detail = kinds[row["scene"]] if which == "scenes" else f"{row['size']}²"
         lines.append(f"| {row['scene']} | {detail} | {row['kernel']} | "
                      f"{row['samples_per_dispatch']} | "
@@ -139,19 +160,20 @@ def table(report: dict, which: str, kernels: tuple) -> list[str]:
     return lines
 
 
-def ratio_rows(report: dict, kernels: tuple) -> list[str]:
+def ratio_rows(report: dict, kernels: tuple, base_kernel: str) -> list[str]:
     """The ratios a learner with a GPU compares with theirs (empty columns to fill): the
-    scenes table's, each other kernel over the megakernel, at the size that table was
+    scenes table's, each other kernel over the base kernel, at the size that table was
     run at."""
-    kinds = dict(SCENES)
-    others = [kernel for kernel in kernels if kernel != BASE]
-    rows = [row for row in report["rows"].values() if row["table"] == "scenes"]
+    kinds = dict(SCENES + TREES_ONLY)
+    others = [kernel for kernel in kernels if kernel != base_kernel]
+    rows = [row for row in report["rows"].values() if row["table"] == "scenes" and
+            has(report, "scenes", row["scene"], row["size"], base_kernel)]
     size = rows[0]["size"] if rows else 0
-    lines = [f"| samples/s ÷ {BASE}'s, {size}² | "
+    lines = [f"| samples/s ÷ {base_kernel}'s, {size}² | "
              + " | ".join(f"{kernel}: this machine | {kernel}: your GPU" for kernel in others)
              + " |", "| --- |" + " ---: | ---: |" * len(others)]
     for scene in dict.fromkeys(row["scene"] for row in rows):
-        base = speed(report, "scenes", scene, size, BASE)["median"]
+        base = speed(report, "scenes", scene, size, base_kernel)["median"]
         ratios = [speed(report, "scenes", scene, size, kernel)["median"] / base
                   for kernel in others]
         cells = [cell for ratio in ratios for cell in (f"{ratio:.2f}", "")]
@@ -160,16 +182,40 @@ def ratio_rows(report: dict, kernels: tuple) -> list[str]:
 
 
 def page_table(report: dict, page: str) -> str:
-    kernels = SHOWN[page]
+    kernels, base = SHOWN[page], BASES[page]
     s, machine = report["settings"], report["machine"]
     heading = (f"Measured {report['date']} on {bench_common.machine_words(machine)}; "
                f"{s['spp']} spp, depth {s['depth']}. Each figure is the median of "
                f"{s['repeat']} runs, the rows taking turns, with the range of the runs. "
                f"{bench_common.quiet_words(report['quiet'])}")
-    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes", kernels), "",
-                      "The Cornell box at other sizes:", "", *table(report, "sizes", kernels),
-                      "", "The ratios to compare with a GPU's (the same bench there):", "",
-                      *ratio_rows(report, kernels)])
+    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes", kernels, base),
+                      "", *sizes_table(report, kernels, base),
+                      *million_lines(report, kernels),
+                      "The ratios to compare with a GPU's (the same bench there):", "",
+                      *ratio_rows(report, kernels, base)])
+
+
+def million_lines(report: dict, kernels: tuple) -> list[str]:
+    """The million-triangle teapot's rays a second over the teapot's, for each kernel
+    of the page that ran both (issue 33 asks for 0.7 or more)."""
+    rays = {}
+    for kernel in kernels:
+        keys = [f"scenes: {scene}: 256: {kernel}" for scene in
+                ("cornell_teapot_million", "cornell_teapot")]
+        if all(key in report["rows"] for key in keys):
+            million, small = (report["rows"][key]["rays_per_second"]["median"] for key in keys)
+            rays[kernel] = million / small
+    if not rays:
+        return []
+    return ["The million-triangle teapot's rays a second ÷ the teapot's: " +
+            ", ".join(f"{kernel} {ratio:.2f}" for kernel, ratio in rays.items()) + ".", ""]
+
+
+def sizes_table(report: dict, kernels: tuple, base: str) -> list[str]:
+    """The Cornell box at other sizes, for the pages whose kernels were run so."""
+    if base not in SIZED:
+        return []
+    return ["The Cornell box at other sizes:", "", *table(report, "sizes", kernels, base), ""]
 
 
 def publish(report: dict, update_book: bool = False, pages: dict = PAGES,

@@ -109,8 +109,8 @@ def cmd_bench(args):
                                    update_book=args.update_book)
     if args.which in ("all", "wavefront"):
         from course_tools.bench import wavefront as bench_wavefront
-        kernels = [find_chapter("22"), find_chapter("23"), find_chapter("30")]
-        build(kernels)
+        kernels = [find_chapter(number) for number in ("22", "23", "30", "31")]
+        build([*kernels, "course_benchmark_assets"])  # the million-triangle teapot
         settings = bench_wavefront.Settings(args.speed_spp, args.depth, args.repeat)
         status |= bench_wavefront.main({name[:2]: binary(name) for name in kernels}, settings,
                                        update_book=args.update_book)
