@@ -121,6 +121,7 @@ void buildTree(GpuScene& gpu, const BvhOptions& options) {
 
 void recordSceneStats(const GpuScene& scene, course::Stats& stats) {
     recordBvhStats(scene.bvh.stats, stats);
+    stats.set("bvh_box_bytes", double(scene.boxes.size() * sizeof(gpu::BvhBox)));
     stats.set("shapes", double(scene.shapeCount()));
     stats.set("triangles", double(scene.triangles.size()));
     stats.set("emitters", double(scene.emitters.size()));

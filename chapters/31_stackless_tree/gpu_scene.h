@@ -32,8 +32,8 @@ struct GpuScene {
     size_t shapeCount() const { return spheres.size() + quads.size() + triangles.size(); }
 };
 
-// The scene's sizes in --json: shapes, triangles, emitters, textures, texels, and the
-// tree's statistics (recordBvhStats).
+// The scene's sizes in --json: shapes, triangles, emitters, textures, texels, the
+// tree's statistics (recordBvhStats) and its threaded boxes' bytes (bvh_box_bytes).
 void recordSceneStats(const GpuScene& scene, course::Stats& stats);
 
 // Loads the scene's meshes (chapter 07's OBJ loader; exit code 3 with file:line) and

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "course/error.h"
 
@@ -22,8 +23,11 @@ gpu::BvhGrid gridOver(vec3 lower, vec3 upper, uint32_t boxesPerOrder) {
 
 // A box's planes as whole steps of the grid, rounded outwards: the lower corner down,
 // the upper up, and one step more each way, so that rounding in the GPU's arithmetic
-// cannot lose a ray that grazes the box. Two 16-bit numbers to a uint.
-gpu::BvhBox roundOntoGrid(const gpu::BvhGrid& grid, vec3 lower, vec3 upper, uint32_t next) {
+// cannot lose a ray that grazes the box. Then in the order the octant's rays meet them:
+// along an axis the rays run down (bit k of `octant` for axis k), the upper plane
+// first. Two 16-bit numbers to a uint.
+gpu::BvhBox roundOntoGrid(const gpu::BvhGrid& grid, vec3 lower, vec3 upper, int octant,
+                          uint32_t next) {
     glm::uvec3 low(65535u), high(0u);  // an empty box (min > max) stays empty: missed
     if (lower.x <= upper.x) {
         vec3 below = glm::floor((lower - grid.origin) / grid.step) - 1.0f;
@@ -31,7 +35,10 @@ gpu::BvhBox roundOntoGrid(const gpu::BvhGrid& grid, vec3 lower, vec3 upper, uint
         low = glm::uvec3(glm::clamp(below, 0.0f, 65535.0f));
         high = glm::uvec3(glm::clamp(above, 0.0f, 65535.0f));
     }
-    return gpu::BvhBox{low.x | (low.y << 16), low.z | (high.x << 16), high.y | (high.z << 16),
+    glm::uvec3 near = low, far = high;
+    for (int axis = 0; axis < 3; ++axis)
+        if ((octant >> axis) & 1) std::swap(near[axis], far[axis]);
+    return gpu::BvhBox{near.x | (near.y << 16), near.z | (far.x << 16), far.y | (far.z << 16),
                        next};
 }
 // --8<-- [end:grid]
@@ -62,7 +69,7 @@ void layOut(const Bvh& bvh, const gpu::BvhGrid& grid, const Child& child, int oc
             std::vector<gpu::BvhBox>& boxes) {
     size_t at = boxes.size();
     bool leaf = child.count > 0, empty = !(child.lower.x <= child.upper.x);
-    boxes.push_back(roundOntoGrid(grid, child.lower, child.upper,
+    boxes.push_back(roundOntoGrid(grid, child.lower, child.upper, octant,
                                   leaf ? (child.index << BVH_COUNT_BITS) | child.count : 0u));
     if (!leaf && !empty) {
         const gpu::BvhNode& node = bvh.nodes[child.index];

@@ -64,14 +64,16 @@ struct BvhNode {
 // Chapter 31 walks the tree without a stack (threaded_tree.h): the node's boxes laid
 // out in the order a ray visits them, one order for each octant of ray directions.
 // A box is 16 bytes, one texel. Its planes are whole steps of a grid (BvhGrid) rounded
-// outwards, 16 bits each; `next` says what the box is:
+// outwards, 16 bits each, and in the order the octant's rays meet them: the near
+// corner's, then the far corner's (along an axis the rays run down, the upper plane is
+// the near one). `next` says what the box is:
 //   next & 7 >  0: a leaf, the triangles (next >> 3) ... (next >> 3) + (next & 7) - 1;
 //   next & 7 == 0: a node; its children's boxes follow it, and a ray that misses it
 //                  goes on at box next >> 3, the first after its subtree.
 struct BvhBox {
-    uint lowerXY;       // the lower corner's x (low 16 bits) and y (high 16 bits)
-    uint lowerZUpperX;  // the lower corner's z and the upper corner's x
-    uint upperYZ;       // the upper corner's y and z
+    uint nearXY;     // the near corner's x (low 16 bits) and y (high 16 bits)
+    uint nearZFarX;  // the near corner's z and the far corner's x
+    uint farYZ;      // the far corner's y and z
     uint next;
 };
 

@@ -65,10 +65,10 @@ BvhRay onGrid(BvhRay ray, BvhGrid grid) {
                   ray.negative);
 }
 
-// A box's corners, in steps of the grid.
-void boxCorners(BvhBox box, out vec3 lower, out vec3 upper) {
-    lower = vec3(uvec3(box.lowerXY & 0xFFFFu, box.lowerXY >> 16u, box.lowerZUpperX & 0xFFFFu));
-    upper = vec3(uvec3(box.lowerZUpperX >> 16u, box.upperYZ & 0xFFFFu, box.upperYZ >> 16u));
+// A box's near and far corners, in steps of the grid.
+void boxCorners(BvhBox box, out vec3 nearCorner, out vec3 farCorner) {
+    nearCorner = vec3(uvec3(box.nearXY & 0xFFFFu, box.nearXY >> 16u, box.nearZFarX & 0xFFFFu));
+    farCorner = vec3(uvec3(box.nearZFarX >> 16u, box.farYZ & 0xFFFFu, box.farYZ >> 16u));
 }
 // --8<-- [end:ray]
 
@@ -76,11 +76,10 @@ void boxCorners(BvhBox box, out vec3 lower, out vec3 upper) {
 // Where the ray enters the box, if it is inside the box somewhere between tMin and tMax;
 // BVH_MISS if not. The slab test: along each axis the ray is between the box's two
 // planes from tNear to tFar; it is in the box where it is between all three pairs.
-float bvhEnterBox(BvhRay ray, vec3 boxMin, vec3 boxMax, float tMin, float tMax) {
-    // Running towards -x, the ray meets the max plane first: the direction's signs
-    // pick the near planes. (So a box with min > max is missed: tFar < tNear.)
-    vec3 nearPlanes = mix(boxMin, boxMax, ray.negative);
-    vec3 farPlanes = mix(boxMax, boxMin, ray.negative);
+// Chapter 13 picked the near planes by the direction's signs for each box; chapter 31's
+// boxes come with them picked, for the octant's rays (BvhBox). (So a box with its near
+// plane beyond its far one is missed: tFar < tNear.)
+float bvhEnterBox(BvhRay ray, vec3 nearPlanes, vec3 farPlanes, float tMin, float tMax) {
     vec3 tNear = (nearPlanes - ray.origin) * ray.inverseDirection;
     vec3 tFar = (farPlanes - ray.origin) * ray.inverseDirection;
     float enter = max(max(tNear.x, tNear.y), max(tNear.z, tMin));
@@ -131,9 +130,9 @@ bool bvhTraverse(Ray ray, float tMin, float tMax, bool anyHit, out uint triangle
         while (next != end) {
             ++bvhLoopIterations;
             BvhBox box = bvhBoxAt(next);
-            vec3 lower, upper;
-            boxCorners(box, lower, upper);
-            bool enters = bvhEnterBox(gridRay, lower, upper, tMin, t) < t;
+            vec3 nearCorner, farCorner;
+            boxCorners(box, nearCorner, farCorner);
+            bool enters = bvhEnterBox(gridRay, nearCorner, farCorner, tMin, t) < t;
             bool isLeaf = (box.next & BVH_COUNT_MASK) != 0u;
             next = enters || isLeaf ? next + 1u : box.next >> BVH_COUNT_BITS;
             if (enters && isLeaf) {

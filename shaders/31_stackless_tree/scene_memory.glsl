@@ -104,8 +104,8 @@ vec3 positionAt(uint i) { return positions[i].xyz; }
 BvhBox bvhBoxAt(uint i) { return bvhBoxes[BVH_GRID_BOXES + i]; }
 BvhGrid bvhGrid() {
     BvhBox a = bvhBoxes[0], b = bvhBoxes[1];
-    return BvhGrid(uintBitsToFloat(uvec3(a.lowerXY, a.lowerZUpperX, a.upperYZ)), a.next,
-                   uintBitsToFloat(uvec3(b.lowerXY, b.lowerZUpperX, b.upperYZ)), 0u);
+    return BvhGrid(uintBitsToFloat(uvec3(a.nearXY, a.nearZFarX, a.farYZ)), a.next,
+                   uintBitsToFloat(uvec3(b.nearXY, b.nearZFarX, b.farYZ)), 0u);
 }
 #else
 layout(binding = TRIANGLES_UNIT) uniform usamplerBuffer triangleTexels;  // 3 texels each

@@ -424,7 +424,7 @@ def test_the_speed_bench_writes_each_chapters_page_only_when_asked(tiny_speed_be
     assert "| leaves priced as run ÷ by count, the teapot |" in pages["21"]
 
 
-# ---------------------------------------------------------------- chapters 22, 23, 30 and 31's kernels bench
+# ---------------------------------------------------------- chapters 22, 23, 30 and 31's kernels bench
 
 @pytest.fixture(scope="module")
 def tiny_wavefront_bench(tmp_path_factory):

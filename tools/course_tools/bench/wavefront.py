@@ -188,7 +188,8 @@ def page_table(report: dict, page: str) -> str:
                f"{s['spp']} spp, depth {s['depth']}. Each figure is the median of "
                f"{s['repeat']} runs, the rows taking turns, with the range of the runs. "
                f"{bench_common.quiet_words(report['quiet'])}")
-    return "\n".join([heading, "", "The kernels, 256²:", "", *table(report, "scenes", kernels, base),
+    return "\n".join([heading, "", "The kernels, 256²:", "",
+                      *table(report, "scenes", kernels, base),
                       "", *sizes_table(report, kernels, base),
                       *million_lines(report, kernels),
                       "The ratios to compare with a GPU's (the same bench there):", "",
