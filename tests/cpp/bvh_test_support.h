@@ -17,6 +17,11 @@
 
 #include "bvh.h"
 #include "obj_loader.h"
+#ifdef BVH_TEST_TRAVERSAL_THREADED
+#include <cstring>
+
+#include "threaded_tree.h"
+#endif
 
 namespace bvh_test {
 
@@ -244,7 +249,7 @@ inline RayHit leftFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, fl
     hit.t = std::min(tMax, 1.0e38f);
     glm::uvec2 current(0u, 0u);
     bool haveCurrent = true;
-    glm::uvec2 stack[BVH_STACK_SIZE];
+    glm::uvec2 stack[BVH_MAX_DEPTH];
     int stackSize = 0;
     for (;;) {
         ++counted.loopIterations;
@@ -268,7 +273,7 @@ inline RayHit leftFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, fl
             current = {node.leftIndex, node.leftCount};
             haveCurrent = true;
         }
-        if (enterRight < hit.t && stackSize < BVH_STACK_SIZE) {
+        if (enterRight < hit.t && stackSize < BVH_MAX_DEPTH) {
             stack[stackSize++] = {node.rightIndex, node.rightCount};
             counted.maxStack = std::max(counted.maxStack, stackSize);
         }
@@ -287,8 +292,8 @@ inline RayHit nearFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, fl
     hit.t = std::min(tMax, 1.0e38f);
     glm::uvec2 current(0u, 0u);
     bool haveCurrent = true;
-    glm::uvec2 stack[BVH_STACK_SIZE];
-    float stackEnter[BVH_STACK_SIZE];
+    glm::uvec2 stack[BVH_MAX_DEPTH];
+    float stackEnter[BVH_MAX_DEPTH];
     int stackSize = 0;
     for (;;) {
         ++counted.loopIterations;
@@ -320,7 +325,7 @@ inline RayHit nearFirst(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, fl
             current = nearChild;
             haveCurrent = true;
         }
-        if (enterFar < hit.t && stackSize < BVH_STACK_SIZE) {
+        if (enterFar < hit.t && stackSize < BVH_MAX_DEPTH) {
             stack[stackSize] = farChild;
             stackEnter[stackSize] = enterFar;
             ++stackSize;
@@ -351,8 +356,8 @@ inline RayHit whileWhile(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, f
     hit.t = std::min(tMax, 1.0e38f);
     glm::uvec2 current(0u, 0u);
     bool haveCurrent = true;
-    uint32_t stack[BVH_STACK_SIZE];
-    float stackEnter[BVH_STACK_SIZE];
+    uint32_t stack[BVH_MAX_DEPTH];
+    float stackEnter[BVH_MAX_DEPTH];
     int stackSize = 0;
     // loopTurns counts each while loop's condition checks, the last one that ends it
     // too: a GL runs that as one more turn, which checks and leaves.
@@ -373,7 +378,7 @@ inline RayHit whileWhile(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, f
             float enterFar = std::max(enterLeft, enterRight);
             haveCurrent = enterNear < hit.t;
             if (haveCurrent) current = nearChild;
-            if (enterFar < hit.t && stackSize < BVH_STACK_SIZE) {
+            if (enterFar < hit.t && stackSize < BVH_MAX_DEPTH) {
                 stack[stackSize] = pack(farChild);
                 stackEnter[stackSize] = enterFar;
                 ++stackSize;
@@ -396,6 +401,71 @@ inline RayHit whileWhile(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, f
     return hit;
 }
 
+#ifdef BVH_TEST_TRAVERSAL_THREADED
+// The boxes threadTree() lays out for `bvh`, made once for each tree the tests walk
+// (the ports take the tree; a walk of thousands of rays would lay them out each time).
+inline const std::vector<gpu::BvhBox>& threadedBoxes(const Bvh& bvh) {
+    static std::vector<gpu::BvhNode> nodes;
+    static std::vector<gpu::BvhBox> boxes;
+    const size_t bytes = bvh.nodes.size() * sizeof(gpu::BvhNode);
+    if (nodes.size() != bvh.nodes.size() || boxes.empty() ||
+        std::memcmp(nodes.data(), bvh.nodes.data(), bytes) != 0) {
+        nodes = bvh.nodes;
+        boxes = threadTree(bvh);
+    }
+    return boxes;
+}
+
+// shaders/31_stackless_tree/bvh_traversal.glsl: no stack; the boxes of threadTree() in
+// the order of the ray's octant, one a turn, each box's planes near corner first, on the
+// grid; a box missed sends the walk past its subtree; while-while, as chapter 21.
+inline RayHit threaded(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, float tMin,
+                       float tMax, bool anyHit, TraversalCount* count = nullptr) {
+    const std::vector<gpu::BvhBox>& boxes = threadedBoxes(bvh);
+    TraversalCount local;
+    TraversalCount& counted = count ? *count : local;
+    gpu::BvhGrid grid;
+    std::memcpy(&grid, boxes.data(), sizeof(grid));
+    const BoxRay boxRay(ray);
+    const glm::vec3 origin = (boxRay.origin - grid.origin) / grid.step;
+    const glm::vec3 inverse = boxRay.inverseDirection * grid.step;
+    RayHit hit;
+    hit.t = std::min(tMax, 1.0e38f);
+    const uint32_t mask = (1u << BVH_COUNT_BITS) - 1u;
+    uint32_t octant = (boxRay.negative.x ? 1u : 0u) | (boxRay.negative.y ? 2u : 0u) |
+                      (boxRay.negative.z ? 4u : 0u);
+    uint32_t next = octant * grid.boxesPerOrder, end = next + grid.boxesPerOrder;
+    for (;;) {
+        ++counted.loopTurns;
+        uint32_t leaf = 0u;
+        while (++counted.loopTurns, next != end) {  // 1. box after box
+            ++counted.loopIterations;
+            ++counted.nodeFetches;
+            const gpu::BvhBox& box = boxes.at(BVH_GRID_BOXES + next);
+            glm::vec3 nearCorner(box.nearXY & 0xFFFFu, box.nearXY >> 16u,
+                                 box.nearZFarX & 0xFFFFu);
+            glm::vec3 farCorner(box.nearZFarX >> 16u, box.farYZ & 0xFFFFu, box.farYZ >> 16u);
+            glm::vec3 tNear = (nearCorner - origin) * inverse;
+            glm::vec3 tFar = (farCorner - origin) * inverse;
+            float enter = std::max(std::max(tNear.x, tNear.y), std::max(tNear.z, tMin));
+            float exit = std::min(std::min(tFar.x, tFar.y), std::min(tFar.z, hit.t));
+            bool enters = (enter <= exit * 1.0000004f ? enter : kMiss) < hit.t;
+            bool isLeaf = (box.next & mask) != 0u;
+            next = enters || isLeaf ? next + 1u : box.next >> BVH_COUNT_BITS;
+            if (enters && isLeaf) {
+                leaf = box.next;
+                break;
+            }
+        }
+        if (leaf == 0u) break;
+        ++counted.loopIterations;  // 2. a leaf
+        testLeaf(mesh, ray, leaf >> BVH_COUNT_BITS, leaf & mask, tMin, hit, counted);
+        if (hit.found && anyHit) return hit;
+    }
+    return hit;
+}
+#endif
+
 }  // namespace ports
 
 // The chapter's traversal: bvh_tests.cmake reads which one its bvh_traversal.glsl is.
@@ -407,6 +477,8 @@ inline RayHit traverse(const Bvh& bvh, const TestMesh& mesh, const Ray& ray, flo
     return ports::whileWhile(bvh, mesh, ray, tMin, tMax, anyHit, count);
 #elif defined(BVH_TEST_TRAVERSAL_NEAR_FIRST)
     return ports::nearFirst(bvh, mesh, ray, tMin, tMax, anyHit, count);
+#elif defined(BVH_TEST_TRAVERSAL_THREADED)
+    return ports::threaded(bvh, mesh, ray, tMin, tMax, anyHit, count);
 #else
 #error "bvh_tests.cmake names the chapter's traversal: BVH_TEST_TRAVERSAL_NEAR_FIRST etc."
 #endif

@@ -15,7 +15,8 @@
 #   - BvhOptions: the SAH, its options and stats (test_bvh_sah.cpp, BVH_TEST_OPTIONS);
 #   - BvhOptions::leavesByCount too: leaves priced as the traversal runs them
 #     (test_bvh_priced.cpp, BVH_TEST_PRICED_LEAVES).
-# The port of the traversal follows the chapter's bvh_traversal.glsl: while-while with a
+# The port of the traversal follows the chapter's bvh_traversal.glsl: threaded boxes
+# without a stack (bvhBoxAt, chapter 31, with its threaded_tree.cpp), while-while with a
 # packed stack (bvhPackChild, chapter 21), nearer child first (stackEnter, chapter 14),
 # or left child first (chapter 13). A builder or traversal of another kind fails those
 # tests, saying which rule it breaks: then give it its own test file here.
@@ -90,7 +91,11 @@ function(_bvh_add_tests)
       list(APPEND assets course_benchmark_assets)
       set(big_teapots_${builder_kind} TRUE)
     endif()
-    if(traversal MATCHES "bvhPackChild")
+    set(walk_sources "")
+    if(traversal MATCHES "bvhBoxAt")  # chapter 31: threaded boxes (threaded_tree.cpp)
+      list(APPEND definitions BVH_TEST_TRAVERSAL_THREADED)
+      list(APPEND walk_sources ${dir}/threaded_tree.cpp)
+    elseif(traversal MATCHES "bvhPackChild")
       list(APPEND definitions BVH_TEST_TRAVERSAL_WHILE_WHILE)
     elseif(traversal MATCHES "stackEnter")
       list(APPEND definitions BVH_TEST_TRAVERSAL_NEAR_FIRST)
@@ -106,7 +111,7 @@ function(_bvh_add_tests)
       endif()
       # The OBJ loader's text plumbing (common/text_file.cpp) comes with course_common.
       add_unit_test(${target} ${test_sources} ${builder} ${dir}/obj_loader.cpp
-        TEST_PREFIX "${chapter}.")
+        ${walk_sources} TEST_PREFIX "${chapter}.")
       target_include_directories(${target} PRIVATE ${dir} ${shaders})
       target_compile_definitions(${target} PRIVATE ${definitions}
         BVH_TEST_SHADER_DIR="${shaders}")

@@ -158,7 +158,8 @@ TEST(Bvh, TraversalFindsWhatBruteForceFinds) {
 }
 
 // A valid tree serves any correct traversal, not only its chapter's: the course's three
-// (left first, nearer first, while-while) on the same tree, against brute force.
+// (left first, nearer first, while-while) on the same tree, against brute force, and
+// chapter 31's walk of the threaded boxes where the chapter has it.
 TEST(Bvh, EveryTraversalFindsWhatBruteForceFinds) {
     TestMesh teapot = loadTeapot("teapot_552");
     ASSERT_FALSE(teapot.positions.empty()) << "teapot_552.obj: build course_assets";
@@ -168,7 +169,11 @@ TEST(Bvh, EveryTraversalFindsWhatBruteForceFinds) {
         TestMesh leafOrder = reordered(mesh, bvh);
         for (const Ray& ray : testRays(mesh, 1000, 77)) {
             RayHit expected = bruteForce(mesh, ray, 1e-5f, 1e30f, false);
-            for (auto port : {&ports::leftFirst, &ports::nearFirst, &ports::whileWhile}) {
+            for (auto port : {&ports::leftFirst, &ports::nearFirst, &ports::whileWhile
+#ifdef BVH_TEST_TRAVERSAL_THREADED
+                              , &ports::threaded
+#endif
+                 }) {
                 RayHit got = port(bvh, leafOrder, ray, 1e-5f, 1e30f, false, nullptr);
                 ASSERT_EQ(got.found, expected.found);
                 if (expected.found) {

@@ -79,12 +79,27 @@ protected:
     // down instances' trees and answers with a BvhHit: it is included with a world of
     // no instances before it and the test shader's form of bvhNearestHit() after it,
     // so these checks cover its walk of the world's own tree (the instances' part is
-    // test_26_instances.py's, against the same triangles written out).
+    // test_26_instances.py's, against the same triangles written out). Chapter 31's walk
+    // reads threaded boxes and their grid (bvhBoxAt(), bvhGrid()): those come from a
+    // storage buffer of threadTree()'s boxes in the nodes' place.
     static course::GeneratedFiles traversalAsTheTestCallsIt() {
         const std::string path = BVH_TEST_SHADER_DIR "/bvh_traversal.glsl";
         std::optional<std::string> traversal = course::readShaderFile(path);
         if (!traversal) ADD_FAILURE() << "cannot read " << path;
         if (!traversal) return {};
+        if (traversal->find("bvhBoxAt(") != std::string::npos)  // chapter 31
+            return {{"bvh_traversal.glsl",
+                     "layout(std430, binding = BVH_NODES_BINDING) readonly buffer BvhBoxes {\n"
+                     "    BvhBox bvhBoxes[];\n"
+                     "};\n"
+                     "BvhBox bvhBoxAt(uint i) { return bvhBoxes[BVH_GRID_BOXES + i]; }\n"
+                     "BvhGrid bvhGrid() {\n"
+                     "    BvhBox a = bvhBoxes[0], b = bvhBoxes[1];\n"
+                     "    return BvhGrid(uintBitsToFloat(uvec3(a.nearXY, a.nearZFarX, a.farYZ)),\n"
+                     "                   a.next, uintBitsToFloat(uvec3(b.nearXY, b.nearZFarX,\n"
+                     "                   b.farYZ)), 0u);\n"
+                     "}\n" +
+                         *traversal}};
         if (traversal->find("bvhNodeAt(") != std::string::npos)
             return {{"bvh_traversal.glsl",
                      "layout(std430, binding = BVH_NODES_BINDING) readonly buffer BvhNodes {\n"
@@ -142,7 +157,11 @@ bool bvhNearestHit(Ray ray, float tMin, float tMax, out uint triangle, out float
             triangles.emplace_back(leafOrder.indices[3 * i], leafOrder.indices[3 * i + 1],
                                    leafOrder.indices[3 * i + 2], 0u);
         if (triangles.empty()) triangles.emplace_back(0u);
+#ifdef BVH_TEST_TRAVERSAL_THREADED
+        auto nodeBuffer = course::GpuBuffer::fromVector(ports::threadedBoxes(bvh));
+#else
         auto nodeBuffer = course::GpuBuffer::fromVector(bvh.nodes);
+#endif
         auto positionBuffer = course::GpuBuffer::fromVector(positions);
         auto triangleBuffer = course::GpuBuffer::fromVector(triangles);
         auto queryBuffer = course::GpuBuffer::fromVector(queries);
