@@ -11,9 +11,10 @@ namespace {
 using glm::vec3;
 
 // --8<-- [start:grid]
-// The grid the boxes are rounded onto: 65 533 steps across the mesh's box on each axis,
-// and a step to spare at each end. An axis along which the mesh is flat still gets
-// steps of a useful size (a thousandth of its longest side's), not of zero.
+// The grid the boxes are rounded onto: 65 532 steps across the mesh's box on each axis,
+// and a step and a half to spare at each end, so that rounding outwards stays within
+// 0 ... 65 535. An axis along which the mesh is flat still gets steps of a useful size
+// (a thousandth of its longest side's), not of zero.
 gpu::BvhGrid gridOver(vec3 lower, vec3 upper, uint32_t boxesPerOrder) {
     vec3 extent = upper - lower;
     float longest = glm::max(glm::max(extent.x, extent.y), glm::max(extent.z, 1e-30f));
