@@ -62,6 +62,19 @@ bool leftFirst(const gpu::BvhNode& node, int octant) {
     return (left[axis] <= right[axis]) != towardsMinus;
 }
 
+void layOut(const Bvh& bvh, const gpu::BvhGrid& grid, const Child& child, int octant,
+            std::vector<gpu::BvhBox>& boxes);
+
+// Lays out a node's two children's subtrees in the octant's order, nearer first.
+void layOutChildren(const Bvh& bvh, const gpu::BvhGrid& grid, const gpu::BvhNode& node,
+                    int octant, std::vector<gpu::BvhBox>& boxes) {
+    Child left{node.leftMin, node.leftMax, node.leftIndex, node.leftCount};
+    Child right{node.rightMin, node.rightMax, node.rightIndex, node.rightCount};
+    bool first = leftFirst(node, octant);
+    layOut(bvh, grid, first ? left : right, octant, boxes);
+    layOut(bvh, grid, first ? right : left, octant, boxes);
+}
+
 // Lays out a child's subtree in the octant's order, after what `boxes` holds: the
 // child's box, then (for a node) its children's subtrees, nearer first. A leaf says
 // which triangles it holds; a node, where its subtree ends: the walk goes on there
@@ -72,14 +85,7 @@ void layOut(const Bvh& bvh, const gpu::BvhGrid& grid, const Child& child, int oc
     bool leaf = child.count > 0, empty = !(child.lower.x <= child.upper.x);
     boxes.push_back(roundOntoGrid(grid, child.lower, child.upper, octant,
                                   leaf ? (child.index << BVH_COUNT_BITS) | child.count : 0u));
-    if (!leaf && !empty) {
-        const gpu::BvhNode& node = bvh.nodes[child.index];
-        Child left{node.leftMin, node.leftMax, node.leftIndex, node.leftCount};
-        Child right{node.rightMin, node.rightMax, node.rightIndex, node.rightCount};
-        bool first = leftFirst(node, octant);
-        layOut(bvh, grid, first ? left : right, octant, boxes);
-        layOut(bvh, grid, first ? right : left, octant, boxes);
-    }
+    if (!leaf && !empty) layOutChildren(bvh, grid, bvh.nodes[child.index], octant, boxes);
     if (!leaf) boxes[at].next = uint32_t(boxes.size() - BVH_GRID_BOXES) << BVH_COUNT_BITS;
 }
 // --8<-- [end:order]
@@ -105,13 +111,7 @@ std::vector<gpu::BvhBox> threadTree(const Bvh& bvh) {
     static_assert(sizeof(grid) == BVH_GRID_BOXES * sizeof(gpu::BvhBox), "the grid's boxes");
     std::memcpy(boxes.data(), &grid, sizeof(grid));
     boxes.reserve(BVH_GRID_BOXES + 8 * boxesPerOrder);
-    for (int octant = 0; octant < 8; ++octant) {
-        Child left{root.leftMin, root.leftMax, root.leftIndex, root.leftCount};
-        Child right{root.rightMin, root.rightMax, root.rightIndex, root.rightCount};
-        bool first = leftFirst(root, octant);
-        layOut(bvh, grid, first ? left : right, octant, boxes);
-        layOut(bvh, grid, first ? right : left, octant, boxes);
-    }
+    for (int octant = 0; octant < 8; ++octant) layOutChildren(bvh, grid, root, octant, boxes);
     return boxes;
 }
 // --8<-- [end:thread]
