@@ -499,12 +499,12 @@ def test_the_wavefront_bench_writes_each_chapters_page_only_when_asked(tiny_wave
 def test_the_wavefront_bench_gives_the_million_triangle_teapots_ratio():
     from course_tools.bench import wavefront as bench_wavefront
 
-    def row(rays):
-        return {"rays_per_second": {"median": rays}}
-    report = {"rows": {"scenes: cornell_teapot: 256: checked": row(4.0e6),
-                       "scenes: cornell_teapot_million: 256: checked": row(2.0e6),
-                       "scenes: cornell_teapot: 256: stackless": row(5.0e6),
-                       "scenes: cornell_teapot_million: 256: stackless": row(3.5e6)}}
+    rays = {("cornell_teapot", "checked"): 4.0e6, ("cornell_teapot_million", "checked"): 2.0e6,
+            ("cornell_teapot", "stackless"): 5.0e6,
+            ("cornell_teapot_million", "stackless"): 3.5e6}
+    report = {"rows": {bench_wavefront.row_key("scenes", scene, 48, kernel): {
+        "table": "scenes", "scene": scene, "kernel": kernel, "size": 48,
+        "rays_per_second": {"median": value}} for (scene, kernel), value in rays.items()}}
     lines = bench_wavefront.million_lines(report, ("checked", "stackless"))
     assert lines[0].endswith("÷ the teapot's: checked 0.50, stackless 0.70.")
     assert bench_wavefront.million_lines(report, ("megakernel",)) == []

@@ -81,7 +81,12 @@ class Row:
 
     @property
     def key(self) -> str:
-        return f"{self.table}: {self.scene}: {self.size}: {self.kernel}"
+        return row_key(self.table, self.scene, self.size, self.kernel)
+
+
+def row_key(table: str, scene: str, size: int, kernel: str) -> str:
+    """A row's name in the report."""
+    return f"{table}: {scene}: {size}: {kernel}"
 
 SCENES = (("cornell_box", "1: diffuse"), ("cornell_teapot", "1: diffuse"),
           ("cornell_glass", "2: diffuse, glass"), ("sky_showcase", "4: every kind"))
@@ -131,12 +136,13 @@ def bench(binaries: dict, settings: Settings) -> dict:
             "quiet": watch.finish()}
 
 
-def speed(report: dict, table: str, scene: str, size: int, kernel: str) -> dict:
-    return report["rows"][f"{table}: {scene}: {size}: {kernel}"]["samples_per_second"]
+def speed(report: dict, table: str, scene: str, size: int, kernel: str,
+          figure: str = "samples_per_second") -> dict:
+    return report["rows"][row_key(table, scene, size, kernel)][figure]
 
 
 def has(report: dict, table: str, scene: str, size: int, kernel: str) -> bool:
-    return f"{table}: {scene}: {size}: {kernel}" in report["rows"]
+    return row_key(table, scene, size, kernel) in report["rows"]
 
 
 def table(report: dict, which: str, kernels: tuple, base_kernel: str) -> list[str]:
@@ -201,11 +207,14 @@ def million_lines(report: dict, kernels: tuple) -> list[str]:
     of the page that ran both (issue 33 asks for 0.7 or more)."""
     rays = {}
     for kernel in kernels:
-        keys = [f"scenes: {scene}: 256: {kernel}" for scene in
-                ("cornell_teapot_million", "cornell_teapot")]
-        if all(key in report["rows"] for key in keys):
-            million, small = (report["rows"][key]["rays_per_second"]["median"] for key in keys)
-            rays[kernel] = million / small
+        sizes = [row["size"] for row in report["rows"].values()
+                 if row["scene"] == "cornell_teapot_million" and row["kernel"] == kernel]
+        if not sizes or not has(report, "scenes", "cornell_teapot", sizes[0], kernel):
+            continue
+        million, small = (speed(report, "scenes", scene, sizes[0], kernel,
+                                "rays_per_second")["median"]
+                          for scene in ("cornell_teapot_million", "cornell_teapot"))
+        rays[kernel] = million / small
     if not rays:
         return []
     return ["The million-triangle teapot's rays a second ÷ the teapot's: " +
